@@ -46,11 +46,7 @@ impl<'a, T: Copy> Broadcast<'a, T> {
     /// Element `i` (element 0 when broadcast).
     #[inline(always)]
     pub fn get(&self, i: usize) -> T {
-        if self.data.len() == 1 {
-            self.data[0]
-        } else {
-            self.data[i]
-        }
+        if self.data.len() == 1 { self.data[0] } else { self.data[i] }
     }
 }
 
@@ -60,10 +56,7 @@ pub fn batch_len(inputs: &[(&'static str, usize)]) -> Result<usize, BrdfError> {
     let n = inputs.iter().map(|(_, len)| *len).max().unwrap_or(0);
     for (name, len) in inputs {
         if *len == 0 {
-            return Err(BrdfError::InvalidInput {
-                name,
-                problem: "is empty".into(),
-            });
+            return Err(BrdfError::InvalidInput { name, problem: "is empty".into() });
         }
         if *len != 1 && *len != n {
             return Err(BrdfError::InvalidInput {
@@ -112,12 +105,7 @@ impl<'a> Directions<'a> {
 
     #[inline(always)]
     fn geometry(&self, i: usize) -> Option<Geometry> {
-        Geometry::new(
-            self.l.get(i),
-            self.v.get(i),
-            self.n.get(i),
-            self.t.map(|t| t.get(i)),
-        )
+        Geometry::new(self.l.get(i), self.v.get(i), self.n.get(i), self.t.map(|t| t.get(i)))
     }
 }
 
@@ -126,9 +114,7 @@ pub fn for_each_chunk<T: Send>(out: &mut [T], body: impl Fn(usize, &mut [T]) + S
     if out.len() < PARALLEL_THRESHOLD {
         body(0, out);
     } else {
-        out.par_chunks_mut(CHUNK)
-            .enumerate()
-            .for_each(|(c, chunk)| body(c * CHUNK, chunk));
+        out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, chunk)| body(c * CHUNK, chunk));
     }
 }
 
@@ -211,9 +197,7 @@ mod tests {
     fn parallel_result_equals_serial_bit_for_bit() {
         let m: Model = Lambert::new(Vec3::new(0.2, 0.5, 0.9)).into();
         let n = 3 * PARALLEL_THRESHOLD + 17;
-        let l: Vec<Vec3> = (0..n)
-            .map(|i| Vec3::new((i as f32).sin(), (i as f32 * 0.7).cos(), 1.0))
-            .collect();
+        let l: Vec<Vec3> = (0..n).map(|i| Vec3::new((i as f32).sin(), (i as f32 * 0.7).cos(), 1.0)).collect();
         let par = evaluate_vec(&m, &l, &[Vec3::Z], &[Vec3::Z], None, Quantity::Shade).unwrap();
         let (dirs, _) = Directions::new(&l, &[Vec3::Z], &[Vec3::Z], None).unwrap();
         let mut serial = vec![Vec3::ZERO; n];

@@ -42,9 +42,6 @@ pub enum BrdfError {
 impl BrdfError {
     /// Shorthand for [`BrdfError::InvalidParameter`].
     pub fn param(name: impl Into<String>, problem: impl Into<String>) -> Self {
-        Self::InvalidParameter {
-            name: name.into(),
-            problem: problem.into(),
-        }
+        Self::InvalidParameter { name: name.into(), problem: problem.into() }
     }
 }

@@ -37,11 +37,7 @@ impl ShadingFrame {
             return Self::from_normal(n);
         }
         let t = t / len2.sqrt();
-        Self {
-            t,
-            b: n.cross(t),
-            n,
-        }
+        Self { t, b: n.cross(t), n }
     }
 
     /// World direction → local coordinates (z along the normal).
@@ -85,21 +81,13 @@ pub mod local {
     #[inline]
     pub fn cos_phi(w: Vec3A) -> f32 {
         let s = sin2_theta(w).sqrt();
-        if s == 0.0 {
-            1.0
-        } else {
-            (w.x / s).clamp(-1.0, 1.0)
-        }
+        if s == 0.0 { 1.0 } else { (w.x / s).clamp(-1.0, 1.0) }
     }
     /// sin φ (0 when sin θ = 0).
     #[inline]
     pub fn sin_phi(w: Vec3A) -> f32 {
         let s = sin2_theta(w).sqrt();
-        if s == 0.0 {
-            0.0
-        } else {
-            (w.y / s).clamp(-1.0, 1.0)
-        }
+        if s == 0.0 { 0.0 } else { (w.y / s).clamp(-1.0, 1.0) }
     }
 }
 
@@ -119,9 +107,7 @@ mod tests {
             let f = ShadingFrame::from_normal(n);
             assert!((f.t.length() - 1.0).abs() < 1e-5);
             assert!((f.b.length() - 1.0).abs() < 1e-5);
-            assert!(
-                f.t.dot(f.n).abs() < 1e-5 && f.b.dot(f.n).abs() < 1e-5 && f.t.dot(f.b).abs() < 1e-5
-            );
+            assert!(f.t.dot(f.n).abs() < 1e-5 && f.b.dot(f.n).abs() < 1e-5 && f.t.dot(f.b).abs() < 1e-5);
             let w = Vec3A::new(0.2, 0.5, -0.7).normalize();
             assert!((f.from_local(f.to_local(w)) - w).length() < 1e-5);
         }

@@ -34,30 +34,14 @@ impl Geometry {
         if l == Vec3A::ZERO || v == Vec3A::ZERO || n == Vec3A::ZERO {
             return None;
         }
-        let tangent = tangent
-            .map(|t| normalize_or_zero(t.into()))
-            .filter(|t| *t != Vec3A::ZERO);
-        Some(Self {
-            l,
-            v,
-            n,
-            tangent,
-            nl: n.dot(l),
-            nv: n.dot(v),
-        })
+        let tangent = tangent.map(|t| normalize_or_zero(t.into())).filter(|t| *t != Vec3A::ZERO);
+        Some(Self { l, v, n, tangent, nl: n.dot(l), nv: n.dot(v) })
     }
 
     /// Build from vectors the caller guarantees to be unit length (hot loops of the rasterizer).
     #[inline]
     pub fn from_unit(l: Vec3A, v: Vec3A, n: Vec3A) -> Self {
-        Self {
-            l,
-            v,
-            n,
-            tangent: None,
-            nl: n.dot(l),
-            nv: n.dot(v),
-        }
+        Self { l, v, n, tangent: None, nl: n.dot(l), nv: n.dot(v) }
     }
 
     /// `true` when both the light and the viewer are strictly above the surface.
@@ -90,12 +74,6 @@ impl Geometry {
     /// The same configuration with light and viewer exchanged (for reciprocity checks).
     #[inline]
     pub fn swapped(&self) -> Self {
-        Self {
-            l: self.v,
-            v: self.l,
-            nl: self.nv,
-            nv: self.nl,
-            ..*self
-        }
+        Self { l: self.v, v: self.l, nl: self.nv, nv: self.nl, ..*self }
     }
 }

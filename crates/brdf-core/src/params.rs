@@ -82,15 +82,7 @@ impl ParamSpec {
         unit: &'static str,
         doc: &'static str,
     ) -> Self {
-        Self {
-            name,
-            kind: ParamKind::Scalar,
-            default: Value::Scalar(default),
-            min,
-            max,
-            unit,
-            doc,
-        }
+        Self { name, kind: ParamKind::Scalar, default: Value::Scalar(default), min, max, unit, doc }
     }
 
     /// An RGB parameter with every channel in `[min, max]`.
@@ -102,15 +94,7 @@ impl ParamSpec {
         unit: &'static str,
         doc: &'static str,
     ) -> Self {
-        Self {
-            name,
-            kind: ParamKind::Color,
-            default: Value::Color(default),
-            min,
-            max,
-            unit,
-            doc,
-        }
+        Self { name, kind: ParamKind::Color, default: Value::Color(default), min, max, unit, doc }
     }
 
     /// A choice among `choices`, defaulting to `default` (which must be one of them).
@@ -133,15 +117,7 @@ impl ParamSpec {
 
     /// A flag.
     pub const fn flag(name: &'static str, default: bool, doc: &'static str) -> Self {
-        Self {
-            name,
-            kind: ParamKind::Bool,
-            default: Value::Bool(default),
-            min: 0.0,
-            max: 0.0,
-            unit: "",
-            doc,
-        }
+        Self { name, kind: ParamKind::Bool, default: Value::Bool(default), min: 0.0, max: 0.0, unit: "", doc }
     }
 
     /// A flat array of rows of `width` numbers, each in `[min, max]`.
@@ -167,10 +143,7 @@ impl ParamSpec {
 
     fn check_number(&self, x: f64) -> Result<f32, BrdfError> {
         if !x.is_finite() {
-            return Err(BrdfError::param(
-                self.name,
-                format!("must be finite, got {x}"),
-            ));
+            return Err(BrdfError::param(self.name, format!("must be finite, got {x}")));
         }
         let (lo, hi) = (f64::from(self.min), f64::from(self.max));
         if x < lo || x > hi {
@@ -184,8 +157,7 @@ impl ParamSpec {
 
     /// Validate a caller's input against this spec.
     pub fn validate(&self, input: &Input) -> Result<Value, BrdfError> {
-        let wrong =
-            |what: &str| BrdfError::param(self.name, format!("expected {what}, got {input:?}"));
+        let wrong = |what: &str| BrdfError::param(self.name, format!("expected {what}, got {input:?}"));
         match (self.kind, input) {
             (ParamKind::Scalar, Input::Number(x)) => Ok(Value::Scalar(self.check_number(*x)?)),
             (ParamKind::Scalar, Input::Numbers(xs)) if xs.len() == 1 => {
@@ -197,33 +169,17 @@ impl ParamSpec {
                 Ok(Value::Color([c; 3]))
             }
             (ParamKind::Color, Input::Numbers(xs)) if xs.len() == 3 || xs.len() == 1 => {
-                let c: Vec<f32> = xs
-                    .iter()
-                    .map(|&x| self.check_number(x))
-                    .collect::<Result<_, _>>()?;
-                Ok(Value::Color(if c.len() == 1 {
-                    [c[0]; 3]
-                } else {
-                    [c[0], c[1], c[2]]
-                }))
+                let c: Vec<f32> = xs.iter().map(|&x| self.check_number(x)).collect::<Result<_, _>>()?;
+                Ok(Value::Color(if c.len() == 1 { [c[0]; 3] } else { [c[0], c[1], c[2]] }))
             }
             (ParamKind::Color, _) => Err(wrong("a number or 3 numbers (linear RGB)")),
             (ParamKind::Choice(choices), Input::Text(s)) => {
                 let key = s.to_ascii_lowercase();
-                choices
-                    .iter()
-                    .find(|c| **c == key)
-                    .map(|c| Value::Choice(c))
-                    .ok_or_else(|| {
-                        BrdfError::param(
-                            self.name,
-                            format!("expected one of {}, got {s:?}", choices.join(", ")),
-                        )
-                    })
+                choices.iter().find(|c| **c == key).map(|c| Value::Choice(c)).ok_or_else(|| {
+                    BrdfError::param(self.name, format!("expected one of {}, got {s:?}", choices.join(", ")))
+                })
             }
-            (ParamKind::Choice(choices), _) => {
-                Err(wrong(&format!("one of {}", choices.join(", "))))
-            }
+            (ParamKind::Choice(choices), _) => Err(wrong(&format!("one of {}", choices.join(", ")))),
             (ParamKind::Bool, Input::Bool(b)) => Ok(Value::Bool(*b)),
             (ParamKind::Bool, _) => Err(wrong("true or false")),
             (ParamKind::Array { width }, Input::Numbers(xs)) => {
@@ -236,10 +192,7 @@ impl ParamSpec {
                         ),
                     ));
                 }
-                let v: Vec<f32> = xs
-                    .iter()
-                    .map(|&x| self.check_number(x))
-                    .collect::<Result<_, _>>()?;
+                let v: Vec<f32> = xs.iter().map(|&x| self.check_number(x)).collect::<Result<_, _>>()?;
                 Ok(Value::Array(Cow::Owned(v)))
             }
             (ParamKind::Array { width }, _) => Err(wrong(&format!("rows of {width} numbers"))),
@@ -280,12 +233,7 @@ impl Params {
                 return Err(BrdfError::UnknownParameter {
                     model: spec.name,
                     name: name.clone(),
-                    known: spec
-                        .params
-                        .iter()
-                        .map(|p| p.name)
-                        .collect::<Vec<_>>()
-                        .join(", "),
+                    known: spec.params.iter().map(|p| p.name).collect::<Vec<_>>().join(", "),
                 });
             }
         }
@@ -297,22 +245,12 @@ impl Params {
             };
             values.push((p.name, v));
         }
-        Ok(Self {
-            model: spec.name,
-            values,
-        })
+        Ok(Self { model: spec.name, values })
     }
 
     /// The defaults of `spec`.
     pub fn defaults(spec: &ModelSpec) -> Self {
-        Self {
-            model: spec.name,
-            values: spec
-                .params
-                .iter()
-                .map(|p| (p.name, p.default.clone()))
-                .collect(),
-        }
+        Self { model: spec.name, values: spec.params.iter().map(|p| (p.name, p.default.clone())).collect() }
     }
 
     /// All values in spec order.
@@ -332,10 +270,7 @@ impl Params {
     pub fn scalar(&self, name: &str) -> f32 {
         match self.get(name) {
             Value::Scalar(x) => *x,
-            other => panic!(
-                "parameter {name} of {} is {other:?}, not a scalar",
-                self.model
-            ),
+            other => panic!("parameter {name} of {} is {other:?}, not a scalar", self.model),
         }
     }
 
@@ -343,10 +278,7 @@ impl Params {
     pub fn color(&self, name: &str) -> Vec3 {
         match self.get(name) {
             Value::Color(c) => Vec3::from_array(*c),
-            other => panic!(
-                "parameter {name} of {} is {other:?}, not a color",
-                self.model
-            ),
+            other => panic!("parameter {name} of {} is {other:?}, not a color", self.model),
         }
     }
 
@@ -354,10 +286,7 @@ impl Params {
     pub fn choice(&self, name: &str) -> &'static str {
         match self.get(name) {
             Value::Choice(c) => c,
-            other => panic!(
-                "parameter {name} of {} is {other:?}, not a choice",
-                self.model
-            ),
+            other => panic!("parameter {name} of {} is {other:?}, not a choice", self.model),
         }
     }
 
@@ -365,10 +294,7 @@ impl Params {
     pub fn flag(&self, name: &str) -> bool {
         match self.get(name) {
             Value::Bool(b) => *b,
-            other => panic!(
-                "parameter {name} of {} is {other:?}, not a flag",
-                self.model
-            ),
+            other => panic!("parameter {name} of {} is {other:?}, not a flag", self.model),
         }
     }
 
@@ -376,10 +302,7 @@ impl Params {
     pub fn array(&self, name: &str) -> &[f32] {
         match self.get(name) {
             Value::Array(a) => a,
-            other => panic!(
-                "parameter {name} of {} is {other:?}, not an array",
-                self.model
-            ),
+            other => panic!("parameter {name} of {} is {other:?}, not an array", self.model),
         }
     }
 

@@ -41,11 +41,7 @@ pub fn refract(w: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
 #[inline]
 pub fn normalize_or_zero(v: Vec3A) -> Vec3A {
     let len2 = v.length_squared();
-    if len2 > 0.0 && len2.is_finite() {
-        v / len2.sqrt()
-    } else {
-        Vec3A::ZERO
-    }
+    if len2 > 0.0 && len2.is_finite() { v / len2.sqrt() } else { Vec3A::ZERO }
 }
 
 #[cfg(test)]

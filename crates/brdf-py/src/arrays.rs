@@ -9,13 +9,11 @@ use pyo3::prelude::*;
 pub fn vec3_slice<'a>(name: &str, a: &'a PyReadonlyArray2<'_, f32>) -> PyResult<&'a [Vec3]> {
     let shape = a.shape();
     if shape[1] != 3 {
-        return Err(PyValueError::new_err(format!(
-            "{name}: expected shape (N, 3) or (3,), got {shape:?}"
-        )));
+        return Err(PyValueError::new_err(format!("{name}: expected shape (N, 3) or (3,), got {shape:?}")));
     }
-    let s = a.as_slice().map_err(|_| {
-        PyTypeError::new_err(format!("{name}: expected a C-contiguous float32 array"))
-    })?;
+    let s = a
+        .as_slice()
+        .map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous float32 array")))?;
     if let Some(i) = s.iter().position(|x| !x.is_finite()) {
         return Err(PyValueError::new_err(format!(
             "{name}: contains a non-finite value (NaN or inf) at row {}",

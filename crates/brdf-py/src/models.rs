@@ -24,9 +24,7 @@ pub struct Model {
 impl Model {
     #[new]
     fn new(name: &str) -> PyResult<Self> {
-        Ok(Self {
-            inner: brdf_core::Model::build(name, &[]).map_err(to_py)?,
-        })
+        Ok(Self { inner: brdf_core::Model::build(name, &[]).map_err(to_py)? })
     }
 
     /// Registry name.
@@ -46,27 +44,15 @@ impl Model {
         tangent: Option<PyReadonlyArray2<'py, f32>>,
         shade: bool,
     ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let (ls, vs, ns) = (
-            vec3_slice("l", &l)?,
-            vec3_slice("v", &v)?,
-            vec3_slice("n", &n)?,
-        );
-        let ts = tangent
-            .as_ref()
-            .map(|t| vec3_slice("tangent", t))
-            .transpose()?;
+        let (ls, vs, ns) = (vec3_slice("l", &l)?, vec3_slice("v", &v)?, vec3_slice("n", &n)?);
+        let ts = tangent.as_ref().map(|t| vec3_slice("tangent", t)).transpose()?;
         let (dirs, len) = Directions::new(ls, vs, ns, ts).map_err(to_py)?;
-        let q = if shade {
-            Quantity::Shade
-        } else {
-            Quantity::Brdf
-        };
+        let q = if shade { Quantity::Shade } else { Quantity::Brdf };
         let out = PyArray2::<f32>::zeros(py, [len, 3], false);
         {
             let mut w = out.readwrite();
-            let slice = w
-                .as_slice_mut()
-                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+            let slice =
+                w.as_slice_mut().map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
             let o: &mut [Vec3] = bytemuck::cast_slice_mut(slice);
             py.detach(|| evaluate(&self.inner, &dirs, q, o));
         }

@@ -172,23 +172,14 @@ mod tests {
 
     #[test]
     fn every_model_builds_from_its_defaults_and_evaluates_finite() {
-        let g = Geometry::new(
-            Vec3::new(0.3, 0.2, 1.0),
-            Vec3::new(-0.4, 0.1, 1.0),
-            Vec3::Z,
-            Some(Vec3::X),
-        )
-        .unwrap();
+        let g = Geometry::new(Vec3::new(0.3, 0.2, 1.0), Vec3::new(-0.4, 0.1, 1.0), Vec3::Z, Some(Vec3::X))
+            .unwrap();
         for s in MODEL_SPECS {
             let m = Model::build(s.name, &[]).unwrap_or_else(|e| panic!("{}: {e}", s.name));
             assert_eq!(m.spec().name, s.name);
             let (f, c) = (m.eval(&g), m.shade(&g));
             assert!(f.is_finite() && c.is_finite(), "{}: {f} {c}", s.name);
-            assert!(
-                f.min_element() >= 0.0 && c.min_element() >= 0.0,
-                "{}: {f} {c}",
-                s.name
-            );
+            assert!(f.min_element() >= 0.0 && c.min_element() >= 0.0, "{}: {f} {c}", s.name);
         }
     }
 
@@ -216,13 +207,9 @@ mod tests {
     fn unknown_names_are_refused_with_the_known_ones_listed() {
         let e = Model::build("nope", &[]).unwrap_err().to_string();
         assert!(e.contains("lambert"), "{e}");
-        let e = Model::build("lambert", &[("albedoo".into(), Input::Number(0.5))])
-            .unwrap_err()
-            .to_string();
+        let e = Model::build("lambert", &[("albedoo".into(), Input::Number(0.5))]).unwrap_err().to_string();
         assert!(e.contains("albedoo") && e.contains("albedo"), "{e}");
-        let e = Model::build("lambert", &[("albedo".into(), Input::Number(-0.5))])
-            .unwrap_err()
-            .to_string();
+        let e = Model::build("lambert", &[("albedo".into(), Input::Number(-0.5))]).unwrap_err().to_string();
         assert!(e.contains("albedo") && e.contains("[0, 1]"), "{e}");
     }
 }
