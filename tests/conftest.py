@@ -1,0 +1,144 @@
+"""Shared fixtures: the oracle on sys.path, seeded random geometry, and the float32 tolerances.
+
+brdfpy computes in float32; the oracle in float64 on the *same* float32-rounded inputs. What remains is
+float32 arithmetic inside brdfpy: each operation is exact to 2^-24 ~ 6e-8 relative, a BRDF evaluation
+chains ~10-100 of them, and powers/exponentials amplify an input error by their exponent
+(``x^32`` turns 6e-8 into ~2e-6; ``exp(-tan^2/alpha^2)`` with ``tan^2/alpha^2 ~ 100`` into ~1e-5). So:
+
+* ``RTOL = 1e-3`` — two orders above the worst amplified rounding of the well-conditioned samples, two
+  orders below any formula slip worth catching (a wrong constant, a missing pi, 0.3 vs 0.33 changes values
+  by > 1 %).
+* ``ATOL_REL = 1e-5`` — an absolute floor scaled by the largest value in the batch, for samples whose
+  value is near zero (e.g. far outside a lobe) where a relative comparison means nothing.
+* Samples where the *oracle itself* is ill conditioned are left out (see :func:`well_conditioned`):
+  where a relative change of the inputs of ``PERTURB = 1e-6`` (about 16 float32 ulps) moves the oracle by
+  more than ``RTOL/4``. That removes threshold jumps (toon bands), cusps and the last fraction of a degree
+  before grazing, and keeps everything else, including directions at 89.9 degrees.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, settings
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+RTOL = 1e-3
+ATOL_REL = 1e-5
+PERTURB = 1e-6
+#: At least this fraction of samples must survive the conditioning filter, so a comparison can't pass
+#: by comparing nothing.
+MIN_COMPARED = 0.9
+
+settings.register_profile(
+    "fast", max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.register_profile("ci", max_examples=300, deadline=None)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "fast"))
+
+
+def unit(a: np.ndarray) -> np.ndarray:
+    return a / np.linalg.norm(a, axis=-1, keepdims=True)
+
+
+def _orthonormal(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    helper = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    t = unit(np.cross(helper, n))
+    return t, np.cross(n, t)
+
+
+def hemisphere(rng: np.random.Generator, n: np.ndarray, cos_theta: np.ndarray) -> np.ndarray:
+    """Unit directions at the given cos(theta) from the unit normals ``n`` and uniform azimuth."""
+    t, b = _orthonormal(n)
+    phi = rng.uniform(0, 2 * np.pi, len(n))
+    s = np.sqrt(np.maximum(0.0, 1 - cos_theta**2))
+    return (s * np.cos(phi))[:, None] * t + (s * np.sin(phi))[:, None] * b + cos_theta[:, None] * n
+
+
+def random_geometry(rng: np.random.Generator, count: int, below: float = 0.0) -> dict[str, np.ndarray]:
+    """``count`` (l, v, n, tangent) configurations, float32, with random normals (not only +z):
+
+    * 60 % uniform over the hemisphere (cos theta uniform in (0, 1]);
+    * 20 % grazing: one or both of l, v at 80..89.9 degrees from the normal;
+    * 20 % near the mirror configuration (v close to reflect(l)), where specular lobes peak;
+    * a fraction ``below`` of l or v flipped below the horizon.
+
+    Vectors are deliberately not normalised (lengths 0.5..2) so normalisation is part of the contract;
+    the tangent is a random vector, not orthogonal to n (the model must Gram-Schmidt it).
+    """
+    n = unit(rng.normal(size=(count, 3)))
+    cl = rng.uniform(1e-3, 1, count)
+    cv = rng.uniform(1e-3, 1, count)
+    kind = rng.uniform(size=count)
+    graze = (kind >= 0.6) & (kind < 0.8)
+    graze_cos = np.cos(np.deg2rad(rng.uniform(80, 89.9, count)))
+    which = rng.integers(0, 3, count)  # 0: l grazes, 1: v grazes, 2: both
+    cl = np.where(graze & (which != 1), graze_cos, cl)
+    cv = np.where(graze & (which != 0), np.cos(np.deg2rad(rng.uniform(80, 89.9, count))), cv)
+    l = hemisphere(rng, n, cl)
+    v = hemisphere(rng, n, cv)
+    mirror = kind >= 0.8
+    r = 2 * np.sum(n * l, axis=1, keepdims=True) * n - l
+    jitter = rng.normal(scale=rng.choice([0.01, 0.05, 0.2], count)[:, None], size=(count, 3))
+    v_m = unit(r + jitter)
+    v = np.where(mirror[:, None] & (np.sum(v_m * n, axis=1, keepdims=True) > 1e-3), v_m, v)
+    flip = rng.uniform(size=count) < below
+    which_flip = rng.integers(0, 2, count)
+    l = np.where((flip & (which_flip == 0))[:, None], l - 2 * np.sum(l * n, 1, keepdims=True) * n, l)
+    v = np.where((flip & (which_flip == 1))[:, None], v - 2 * np.sum(v * n, 1, keepdims=True) * n, v)
+    scale = rng.uniform(0.5, 2.0, (3, count, 1))
+    tangent = rng.normal(size=(count, 3))
+    return {
+        "l": (l * scale[0]).astype(np.float32),
+        "v": (v * scale[1]).astype(np.float32),
+        "n": (n * scale[2]).astype(np.float32),
+        "tangent": tangent.astype(np.float32),
+    }
+
+
+def well_conditioned(
+    fn: Callable[..., np.ndarray], geo: dict[str, np.ndarray], rng: np.random.Generator, reference: np.ndarray
+) -> np.ndarray:
+    """Rows where the oracle ``fn(l, v, n, tangent)`` moves by less than RTOL/4 (relative, with the
+    ATOL floor) under two random relative perturbations of size PERTURB of every input."""
+    scale = np.max(np.abs(reference)) if reference.size else 1.0
+    ok = np.ones(len(reference), dtype=bool)
+    for _ in range(2):
+        pert = {
+            k: a.astype(np.float64) * (1 + PERTURB * rng.choice([-1.0, 1.0], a.shape)) for k, a in geo.items()
+        }
+        moved = fn(**pert)
+        err = np.abs(moved - reference)
+        ok &= np.all(err <= RTOL / 4 * np.abs(reference) + ATOL_REL * scale / 4, axis=-1)
+    return ok
+
+
+def assert_close(got: Any, want: np.ndarray, mask: np.ndarray | None = None, what: str = "") -> None:
+    """float32 result vs float64 oracle at the suite's tolerances (on the ``mask`` rows)."""
+    got = np.asarray(got, dtype=np.float64)
+    want = np.asarray(want, dtype=np.float64)
+    assert got.shape == want.shape, f"{what}: shape {got.shape} != {want.shape}"
+    if mask is not None:
+        got, want = got[mask], want[mask]
+    scale = np.max(np.abs(want)) if want.size else 0.0
+    np.testing.assert_allclose(got, want, rtol=RTOL, atol=ATOL_REL * scale + 1e-30, err_msg=what)
+
+
+@pytest.fixture
+def rng(request: pytest.FixtureRequest) -> np.random.Generator:
+    """A generator seeded from the test's name: reproducible, but different per test."""
+    seed = sum(request.node.nodeid.encode()) * 7919 % (2**32)
+    return np.random.default_rng(seed)
+
+
+def model_defaults(name: str) -> dict[str, Any]:
+    """Resolved default parameters of a model, read from the registry (the API, not the Rust code)."""
+    import brdfpy
+
+    return {p["name"]: p["default"] for p in brdfpy.model_info(name)["params"]}

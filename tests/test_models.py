@@ -1,0 +1,250 @@
+"""Every registry model against the independent NumPy oracle, on thousands of seeded random directions
+(including grazing ones and near-mirror ones), for several parameter sets each, ``eval`` and ``shade``."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import brdfpy
+import numpy as np
+import pytest
+
+from conftest import MIN_COMPARED, assert_close, model_defaults, random_geometry, well_conditioned
+from oracle import models as om
+
+N_SAMPLES = 4000
+
+ANISOTROPIC = {"ward", "ashikhmin_shirley", "lafortune"}
+#: COMMON.md's registry: the course-style models whose ``shade`` is the seed's formula itself.
+CLASSIC = {"lambert_classic", "toon", "phong_classic", "blinn_phong_classic"}
+
+#: (model, parameter overrides) — each model at its defaults and at a few telling corners.
+CASES: list[tuple[str, dict[str, Any]]] = [
+    ("lambert", {}),
+    ("lambert", {"albedo": [0.2, 0.5, 1.0]}),
+    ("lambert_classic", {}),
+    ("lambert_classic", {"color": [0.1, 0.9, 0.4]}),
+    ("oren_nayar", {}),
+    ("oren_nayar", {"sigma": 0.0}),
+    ("oren_nayar", {"sigma": 1.0, "albedo": [0.9, 0.5, 0.1]}),
+    ("oren_nayar", {"sigma": math.pi / 2, "variant": "compensated"}),
+    ("oren_nayar", {"sigma": 0.5, "variant": "compensated"}),
+    ("oren_nayar_full", {}),
+    ("oren_nayar_full", {"sigma": 1.0, "albedo": [0.9, 0.5, 0.1]}),
+    ("oren_nayar_full", {"sigma": 0.6, "interreflection": False}),
+    ("oren_nayar_full", {"sigma": math.pi / 2}),
+    ("toon", {}),
+    ("toon", {"specular_mode": "blinn"}),
+    ("phong_classic", {}),
+    ("phong_classic", {"shininess": 1.0, "kd": 0.2, "ks": [0.9, 0.8, 0.7]}),
+    ("phong_classic", {"shininess": 200.0}),
+    ("blinn_phong_classic", {}),
+    ("blinn_phong_classic", {"shininess": 8.0, "ks": 1.0}),
+    ("phong", {}),
+    ("phong", {"shininess": 1.0}),
+    ("phong", {"shininess": 500.0, "kd": [0.1, 0.2, 0.3]}),
+    ("blinn_phong", {}),
+    ("blinn_phong", {"normalization": "exact"}),
+    ("blinn_phong", {"normalization": "exact", "shininess": 1.0}),
+    ("blinn_phong", {"shininess": 300.0, "ks": 0.9}),
+    ("strauss", {}),
+    ("strauss", {"smoothness": 0.2, "metalness": 1.0}),
+    ("strauss", {"smoothness": 0.8, "metalness": 0.5, "transparency": 0.3}),
+    ("ward", {}),
+    ("ward", {"alpha_x": 0.05, "alpha_y": 0.05}),
+    ("ward", {"alpha_x": 0.5, "alpha_y": 0.1, "rho_d": [0.3, 0.2, 0.1]}),
+    ("ward", {"normalization": "walter"}),
+    ("ward", {"normalization": "walter", "alpha_x": 0.4, "alpha_y": 0.08}),
+    ("ashikhmin_shirley", {}),
+    ("ashikhmin_shirley", {"nu": 50.0, "nv": 50.0}),
+    ("ashikhmin_shirley", {"nu": 1000.0, "nv": 10.0, "rs": [0.9, 0.6, 0.3]}),
+    ("lafortune", {}),
+    ("lafortune", {"lobes": [[-1.0, -1.0, 1.0, 20.0], [0.5, 0.5, 0.9, 3.0]]}),
+    ("lafortune", {"lobes": [[-1.2, -0.4, 0.9, 40.0]], "rho_d": 0.1}),
+]
+
+CT_CASES: list[dict[str, Any]] = [
+    {"distribution": d, "masking": g, "roughness": a}
+    for d in ("ggx", "beckmann", "gaussian", "blinn_phong")
+    for g in ("smith", "smith_separable", "v_groove", "kelemen", "none")
+    for a in (0.08, 0.5)
+] + [
+    {"fresnel": "dielectric", "ior": 1.33},
+    {"fresnel": "dielectric", "ior": 2.4, "roughness": 0.2},
+    {"fresnel": "conductor", "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2]},
+    {"fresnel": "schlick", "f0": [0.95, 0.64, 0.54]},
+    {"fresnel": "schlick", "metal": "au"},
+    {"fresnel": "none", "kd": [0.3, 0.2, 0.1]},
+    {"distribution": "beckmann", "masking": "v_groove", "weight2": 0.3, "roughness2": 0.6},
+    {"distribution": "ggx", "masking": "kelemen", "weight2": 0.5, "roughness2": 0.05},
+]
+CASES += [("cook_torrance", c) for c in CT_CASES]
+
+
+def _id(case: tuple[str, dict[str, Any]]) -> str:
+    name, over = case
+    return name + ("-" + "-".join(f"{k}={v}" for k, v in over.items()) if over else "")
+
+
+def _params(name: str, over: dict[str, Any]) -> dict[str, Any]:
+    assert name in brdfpy.models(), f"model {name!r} is not in the registry"
+    params = model_defaults(name)
+    unknown = set(over) - set(params)
+    assert not unknown, f"{name}: registry has no parameter(s) {sorted(unknown)}"
+    params.update(over)
+    return params
+
+
+@pytest.mark.parametrize("quantity", ["eval", "shade"])
+@pytest.mark.parametrize("case", CASES, ids=[_id(c) for c in CASES])
+def test_model_matches_oracle(
+    case: tuple[str, dict[str, Any]], quantity: str, rng: np.random.Generator
+) -> None:
+    name, over = case
+    params = _params(name, over)
+    model = brdfpy.model(name, **over)
+    geo = random_geometry(rng, N_SAMPLES, below=0.1)
+    if name not in ANISOTROPIC:
+        geo.pop("tangent")
+
+    def oracle(**g: np.ndarray) -> np.ndarray:
+        return om.evaluate(name, params, quantity=quantity, **g)
+
+    want = oracle(**{k: a.astype(np.float64) for k, a in geo.items()})
+    got = getattr(model, quantity)(**geo)
+    assert got.dtype == np.float32 and got.shape == (N_SAMPLES, 3)
+    assert np.all(np.isfinite(got)), f"{name}: non-finite output"
+    mask = well_conditioned(oracle, geo, rng, want)
+    assert mask.mean() >= MIN_COMPARED, f"only {mask.mean():.1%} of samples are well conditioned"
+    assert_close(got, want, mask, what=f"{name} {quantity} {over}")
+
+
+@pytest.mark.parametrize("name", ["ward", "ashikhmin_shirley"])
+def test_anisotropic_model_without_tangent_uses_the_normal_only_frame(
+    name: str, rng: np.random.Generator
+) -> None:
+    """With no tangent, the documented fallback frame (Duff et al. 2017) orients the anisotropy."""
+    over = {"ward": {"alpha_x": 0.1, "alpha_y": 0.4}, "ashikhmin_shirley": {"nu": 200.0, "nv": 5.0}}[name]
+    params = _params(name, over)
+    geo = random_geometry(rng, 2000)
+    geo.pop("tangent")
+    want = om.evaluate(name, params, **{k: a.astype(np.float64) for k, a in geo.items()})
+    got = brdfpy.model(name, **over).eval(**geo)
+    mask = well_conditioned(lambda **g: om.evaluate(name, params, **g), geo, rng, want)
+    assert_close(got, want, mask, what=name)
+
+
+@pytest.mark.parametrize("name", ["ward", "ashikhmin_shirley"])
+def test_anisotropy_rotates_with_the_tangent(name: str) -> None:
+    """Turning the tangent by 90 degrees swaps the roles of the two roughnesses."""
+    a, b = {"ward": ("alpha_x", "alpha_y"), "ashikhmin_shirley": ("nu", "nv")}[name]
+    lo, hi = {"ward": (0.1, 0.4), "ashikhmin_shirley": (5.0, 200.0)}[name]
+    n = np.array([0.0, 0.0, 1.0], np.float32)
+    l = np.array([0.3, 0.4, 0.866], np.float32)
+    v = np.array([-0.35, -0.2, 0.9], np.float32)
+    m1 = brdfpy.model(name, **{a: lo, b: hi})
+    m2 = brdfpy.model(name, **{a: hi, b: lo})
+    f1 = m1.eval(l, v, n, tangent=np.array([1.0, 0.0, 0.0], np.float32))
+    f2 = m2.eval(l, v, n, tangent=np.array([0.0, 1.0, 0.0], np.float32))
+    np.testing.assert_allclose(f1, f2, rtol=1e-5)
+    assert not np.allclose(f1, m1.eval(l, v, n, tangent=np.array([0.0, 1.0, 0.0], np.float32)), rtol=1e-3)
+
+
+@pytest.mark.parametrize("name", sorted({c[0] for c in CASES}))
+def test_registry_lists_every_model_with_its_params(name: str) -> None:
+    info = brdfpy.model_info(name)
+    assert info["name"] == name
+    assert isinstance(info["physical"], bool) and isinstance(info["anisotropic"], bool)
+    assert info["summary"] and info["source"]
+    for p in info["params"]:
+        assert {"name", "kind", "default", "min", "max", "unit", "doc"} <= set(p), p
+        assert p["kind"] in {"scalar", "color", "choice", "bool", "array"}
+        if p["kind"] == "choice":
+            assert p["default"] in p["choices"]
+    model = brdfpy.model(name)
+    assert model.name == name
+    assert set(model.params) == {p["name"] for p in info["params"]}
+    assert name in repr(model)
+
+
+def test_models_lists_the_registry() -> None:
+    names = brdfpy.models()
+    assert set(names) >= {c[0] for c in CASES}
+    assert len(names) == len(set(names))
+
+
+def test_physical_flags_match_the_spec() -> None:
+    for name in {c[0] for c in CASES} - {"strauss"}:
+        assert brdfpy.model_info(name)["physical"] == (name not in CLASSIC), name
+    assert brdfpy.model_info("ward")["anisotropic"]
+    assert brdfpy.model_info("ashikhmin_shirley")["anisotropic"]
+    assert not brdfpy.model_info("lambert")["anisotropic"]
+
+
+# --------------------------------------------------------------------------- input conventions
+
+
+def test_single_vectors_give_a_single_rgb() -> None:
+    m = brdfpy.model("blinn_phong")
+    out = m.eval([0.0, 0.6, 0.8], [0.0, -0.6, 0.8], [0.0, 0.0, 1.0])
+    assert out.shape == (3,) and out.dtype == np.float32
+    params = model_defaults("blinn_phong")
+    want = om.evaluate("blinn_phong", params, [0, 0.6, 0.8], [0, -0.6, 0.8], [0, 0, 1])[0]
+    assert_close(out, want)
+
+
+def test_one_vector_broadcasts_against_many(rng: np.random.Generator) -> None:
+    geo = random_geometry(rng, 500)
+    m = brdfpy.model("cook_torrance")
+    full = m.eval(geo["l"], geo["v"], np.repeat(geo["n"][:1], 500, axis=0))
+    assert np.array_equal(m.eval(geo["l"], geo["v"], geo["n"][0]), full)
+    assert np.array_equal(m.eval(geo["l"], geo["v"], geo["n"][:1]), full)
+
+
+@pytest.mark.parametrize("layout", ["float64", "fortran", "strided", "list"])
+def test_any_layout_and_float64_give_the_same_result(layout: str, rng: np.random.Generator) -> None:
+    geo = random_geometry(rng, 300)
+    m = brdfpy.model("ward")
+    ref = m.eval(geo["l"], geo["v"], geo["n"], tangent=geo["tangent"])
+
+    def convert(a: np.ndarray) -> Any:
+        if layout == "float64":
+            return a.astype(np.float64)
+        if layout == "fortran":
+            return np.asfortranarray(a)
+        if layout == "strided":
+            big = np.zeros((a.shape[0], 6), np.float32)
+            big[:, ::2] = a
+            return big[:, ::2]
+        return a.tolist()
+
+    out = m.eval(*(convert(geo[k]) for k in ("l", "v", "n")), tangent=convert(geo["tangent"]))
+    assert out.dtype == np.float32
+    assert np.array_equal(out, ref)
+
+
+@pytest.mark.parametrize("name", sorted({c[0] for c in CASES} - CLASSIC - {"strauss"}))
+def test_physical_models_are_black_below_the_horizon(name: str, rng: np.random.Generator) -> None:
+    geo = random_geometry(rng, 1000, below=1.0)
+    m = brdfpy.model(name)
+    for q in ("eval", "shade"):
+        out = getattr(m, q)(**geo) if name in ANISOTROPIC else getattr(m, q)(geo["l"], geo["v"], geo["n"])
+        assert np.array_equal(out, np.zeros_like(out)), f"{name}.{q} is not 0 below the horizon"
+
+
+@pytest.mark.parametrize("name", sorted({c[0] for c in CASES}))
+def test_shade_is_eval_times_cosine_for_physical_models(name: str, rng: np.random.Generator) -> None:
+    m = brdfpy.model(name)
+    geo = random_geometry(rng, 1000)
+    geo.pop("tangent")
+    f = m.eval(**geo).astype(np.float64)
+    s = m.shade(**geo).astype(np.float64)
+    nl = np.einsum("ij,ij->i", *(g / np.linalg.norm(g, axis=1, keepdims=True) for g in (geo["l"], geo["n"])))
+    if brdfpy.model_info(name)["physical"]:
+        np.testing.assert_allclose(s, f * np.maximum(nl, 0)[:, None], rtol=1e-5, atol=1e-30)
+    else:
+        # classic models: f is the course formula divided by n.l (0 where n.l <= 0)
+        lit = nl > 1e-3
+        np.testing.assert_allclose(f[lit] * nl[lit, None], s[lit], rtol=1e-4, atol=1e-30)
+        assert np.all(f[nl <= 0] == 0)
