@@ -24,6 +24,8 @@ pub mod batch;
 pub mod error;
 pub mod frame;
 pub mod geometry;
+pub mod illumination;
+pub mod lights;
 pub mod models;
 pub mod params;
 pub mod vector;
