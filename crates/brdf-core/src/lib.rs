@@ -28,6 +28,7 @@ pub mod illumination;
 pub mod lights;
 pub mod models;
 pub mod params;
+pub mod tonemap;
 pub mod vector;
 
 pub use error::BrdfError;

@@ -14,9 +14,19 @@ use glam::Vec3;
 use crate::params::{Input, ModelSpec, Params};
 use crate::{BrdfError, Geometry};
 
+pub mod blinn_phong;
+pub mod classic;
 pub mod lambert;
+pub mod oren_nayar;
+pub mod phong;
+pub mod toon;
 
+pub use blinn_phong::BlinnPhong;
+pub use classic::{BlinnPhongClassic, LambertClassic, PhongClassic};
 pub use lambert::Lambert;
+pub use oren_nayar::{OrenNayar, OrenNayarFull};
+pub use phong::Phong;
+pub use toon::Toon;
 
 /// Physical BRDF or course formula (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -159,6 +169,14 @@ macro_rules! define_models {
 // The registry: one line per model. Order is the order `brdfpy.models()` lists them in.
 define_models! {
     Lambert(Lambert),
+    LambertClassic(LambertClassic),
+    OrenNayar(OrenNayar),
+    OrenNayarFull(OrenNayarFull),
+    Toon(Toon),
+    PhongClassic(PhongClassic),
+    BlinnPhongClassic(BlinnPhongClassic),
+    Phong(Phong),
+    BlinnPhong(BlinnPhong),
 }
 
 /// Look up a model's spec by registry name.

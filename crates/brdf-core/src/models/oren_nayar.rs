@@ -1,0 +1,250 @@
+//! Oren-Nayar rough diffuse reflection (Oren & Nayar 1994, "Generalization of Lambert's reflectance
+//! model", SIGGRAPH '94): the qualitative model ([`OrenNayar`]) and the full model with the
+//! interreflection term ([`OrenNayarFull`]). Seeds 000, 001, 002, 004.
+//!
+//! Both are evaluated from dot products, without building a tangent frame. With `s = l·v − (n·l)(n·v)`
+//! (the dot product of the projections of `l` and `v` onto the tangent plane),
+//! `cos Δφ = s / (sin θ_i sin θ_r)` — seed 000's `dot(normalize(L − (L·N)N), normalize(V − (V·N)N))`.
+//! At normal incidence (`sin θ = 0`) the azimuth is undefined; every term it multiplies then carries a
+//! factor `tan β`, `β²` or `sin β` that is 0, so the value is continuous there and no NaN arises.
+
+use std::f32::consts::{FRAC_1_PI, FRAC_2_PI, FRAC_PI_2};
+
+use glam::Vec3;
+
+use crate::models::{Bxdf, ModelKind};
+use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::{BrdfError, Geometry};
+
+/// `A` of the qualitative model, `1 − 0.5 σ²/(σ² + c)`, with `c` = 0.33 (Oren & Nayar 1994) or
+/// 0.57 (the interreflection-compensated constant).
+#[inline]
+pub fn oren_nayar_a(sigma: f32, c: f32) -> f32 {
+    let s2 = sigma * sigma;
+    1.0 - 0.5 * s2 / (s2 + c)
+}
+
+/// `B` of the qualitative model, `0.45 σ²/(σ² + 0.09)` (Oren & Nayar 1994).
+#[inline]
+pub fn oren_nayar_b(sigma: f32) -> f32 {
+    let s2 = sigma * sigma;
+    0.45 * s2 / (s2 + 0.09)
+}
+
+/// Which constant the qualitative model's `A` uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OrenNayarVariant {
+    /// `A = 1 − 0.5 σ²/(σ² + 0.33)`: Oren & Nayar 1994's qualitative model (seeds 000, 001; pbrt-v3).
+    Qualitative,
+    /// `A = 1 − 0.5 σ²/(σ² + 0.57)`: compensates the energy of the interreflection term the qualitative
+    /// model leaves out (Portsmouth, Kutz, Hill 2025, "EON", arXiv 2410.18026, "discrepancy-compensated A").
+    Compensated,
+}
+
+impl OrenNayarVariant {
+    /// The constant `c` in `A = 1 − 0.5 σ²/(σ² + c)`.
+    pub fn a_constant(self) -> f32 {
+        match self {
+            Self::Qualitative => 0.33,
+            Self::Compensated => 0.57,
+        }
+    }
+}
+
+const ALBEDO: ParamSpec =
+    ParamSpec::color("albedo", [0.8, 0.8, 0.8], 0.0, 1.0, "reflectance", "facet albedo rho");
+const SIGMA: ParamSpec = ParamSpec::scalar(
+    "sigma",
+    0.3,
+    0.0,
+    FRAC_PI_2,
+    "radians",
+    "roughness: standard deviation of the facet slope angle (0 = Lambert)",
+);
+
+/// The qualitative Oren-Nayar BRDF [1/sr] (Oren & Nayar 1994, eq. 30; seeds 000, 001):
+///
+/// ```text
+/// f_r = ρ/π · (A + B · max(0, cos Δφ) · sin α · tan β),   α = max(θ_i, θ_r), β = min(θ_i, θ_r)
+/// A = 1 − 0.5 σ²/(σ² + c),  c = 0.33 ("qualitative") or 0.57 ("compensated");  B = 0.45 σ²/(σ² + 0.09)
+/// ```
+///
+/// σ is in **radians** (pbrt-v3 and BRDF Explorer sliders take degrees). Since
+/// `sin α sin β = sin θ_i sin θ_r` and `cos β = max(n·l, n·v)`, the angular factor is evaluated
+/// without any trigonometric call as `max(0, cos Δφ) sin α tan β = max(0, s) / max(n·l, n·v)` with
+/// `s = l·v − (n·l)(n·v)` (the form used by Fujii's "improved" O-N and by many shaders). It is
+/// reciprocal. It does not conserve energy exactly: at normal view its albedo is `A` (0.865 for
+/// σ = 20° with c = 0.33); the compensated constant raises it toward the full model's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrenNayar {
+    /// Facet albedo ρ.
+    pub albedo: Vec3,
+    /// Roughness σ [rad].
+    pub sigma: f32,
+    /// Constant used in `A`.
+    pub variant: OrenNayarVariant,
+    /// `ρ A / π`.
+    a_term: Vec3,
+    /// `ρ B / π`.
+    b_term: Vec3,
+}
+
+impl OrenNayar {
+    /// Qualitative Oren-Nayar of albedo `albedo`, roughness `sigma` [rad] and the given `A` constant.
+    pub fn new(albedo: Vec3, sigma: f32, variant: OrenNayarVariant) -> Self {
+        let rho_pi = albedo * FRAC_1_PI;
+        Self {
+            albedo,
+            sigma,
+            variant,
+            a_term: rho_pi * oren_nayar_a(sigma, variant.a_constant()),
+            b_term: rho_pi * oren_nayar_b(sigma),
+        }
+    }
+}
+
+impl Bxdf for OrenNayar {
+    const SPEC: ModelSpec = ModelSpec {
+        name: "oren_nayar",
+        summary: "qualitative Oren-Nayar, f_r = albedo/pi*(A + B*max(0,cos dphi)*sin(alpha)*tan(beta))",
+        source: "Oren & Nayar 1994; seeds 000, 001, 002; EON (Portsmouth et al. 2025) for the 0.57 constant",
+        physical: true,
+        anisotropic: false,
+        params: &[
+            ALBEDO,
+            SIGMA,
+            ParamSpec::choice(
+                "variant",
+                &["qualitative", "compensated"],
+                "qualitative",
+                "constant in A = 1 - 0.5 sigma^2/(sigma^2 + c): qualitative c = 0.33, compensated c = 0.57",
+            ),
+        ],
+    };
+    const KIND: ModelKind = ModelKind::Physical;
+
+    fn from_params(p: &Params) -> Result<Self, BrdfError> {
+        let variant = match p.choice("variant") {
+            "compensated" => OrenNayarVariant::Compensated,
+            _ => OrenNayarVariant::Qualitative,
+        };
+        Ok(Self::new(p.color("albedo"), p.scalar("sigma"), variant))
+    }
+
+    #[inline]
+    fn f(&self, g: &Geometry) -> Vec3 {
+        // max(0, cos Δφ) sin α tan β = max(0, s) / cos β; cos β = max(n·l, n·v) > 0 here.
+        let s = g.l.dot(g.v) - g.nl * g.nv;
+        let angular = s.max(0.0) / g.nl.max(g.nv);
+        self.a_term + self.b_term * angular
+    }
+}
+
+/// The full Oren-Nayar BRDF with the interreflection term [1/sr] (Oren & Nayar 1994, eqs. 27–29 as
+/// summarised in seed 004 "The Oren-Nayar Illumination Model (7)"; BRDF Explorer `orennayar.brdf`;
+/// research notes (b4)):
+///
+/// ```text
+/// f_r = L1 + L2
+/// L1 = ρ/π [C1 + cos Δφ · C2 · tan β + (1 − |cos Δφ|) · C3 · tan((α+β)/2)]
+/// L2 = 0.17 ρ²/π · σ²/(σ² + 0.13) · [1 − cos Δφ · (2β/π)²]
+/// C1 = 1 − 0.5 σ²/(σ² + 0.33)
+/// C2 = 0.45 σ²/(σ² + 0.09) · sin α                  if cos Δφ ≥ 0
+///    = 0.45 σ²/(σ² + 0.09) · (sin α − (2β/π)³)      otherwise
+/// C3 = 0.125 σ²/(σ² + 0.09) · (4αβ/π²)²
+/// ```
+///
+/// **Where the seed differs.** Seed 004 prints `C1 = 1 − 0.5 σ²/(σ² + 0.3)` and `L2` with `ρ` instead
+/// of `ρ²`. The paper (and BRDF Explorer, OpenPBR's `ON_full`) use 0.33 — the same constant as the
+/// qualitative `A` — and `ρ²`, because the interreflected light has been reflected twice by facets of
+/// albedo ρ. The paper's form is used here. With `interreflection = false` only `L1` is evaluated.
+///
+/// Cost: two `acos` (α and β are needed as angles in `C2`, `C3` and `L2`); `tan β` and
+/// `tan((α+β)/2) = (sin α + sin β)/(cos α + cos β)` come from the cosines. The model is reciprocal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrenNayarFull {
+    /// Facet albedo ρ.
+    pub albedo: Vec3,
+    /// Roughness σ [rad].
+    pub sigma: f32,
+    /// Whether the interreflection term `L2` is included.
+    pub interreflection: bool,
+    /// `ρ/π`.
+    rho_pi: Vec3,
+    /// `0.17 ρ²/π · σ²/(σ² + 0.13)` (0 without interreflection).
+    l2_term: Vec3,
+    /// `C1`.
+    c1: f32,
+    /// `0.45 σ²/(σ² + 0.09)`.
+    c2_scale: f32,
+    /// `0.125 σ²/(σ² + 0.09)`.
+    c3_scale: f32,
+}
+
+impl OrenNayarFull {
+    /// Full Oren-Nayar of albedo `albedo`, roughness `sigma` [rad], with or without `L2`.
+    pub fn new(albedo: Vec3, sigma: f32, interreflection: bool) -> Self {
+        let s2 = sigma * sigma;
+        let k = s2 / (s2 + 0.09);
+        let rho_pi = albedo * FRAC_1_PI;
+        let l2_term = if interreflection { albedo * rho_pi * (0.17 * s2 / (s2 + 0.13)) } else { Vec3::ZERO };
+        Self {
+            albedo,
+            sigma,
+            interreflection,
+            rho_pi,
+            l2_term,
+            c1: oren_nayar_a(sigma, 0.33),
+            c2_scale: 0.45 * k,
+            c3_scale: 0.125 * k,
+        }
+    }
+}
+
+impl Bxdf for OrenNayarFull {
+    const SPEC: ModelSpec = ModelSpec {
+        name: "oren_nayar_full",
+        summary: "full Oren-Nayar with C1, C2, C3 and the interreflection term L2 (rho^2)",
+        source: "Oren & Nayar 1994 eqs. 27-29; seed 004 (C1 constant 0.33 and rho^2 in L2 per the paper)",
+        physical: true,
+        anisotropic: false,
+        params: &[
+            ALBEDO,
+            SIGMA,
+            ParamSpec::flag("interreflection", true, "include the interreflection term L2"),
+        ],
+    };
+    const KIND: ModelKind = ModelKind::Physical;
+
+    fn from_params(p: &Params) -> Result<Self, BrdfError> {
+        Ok(Self::new(p.color("albedo"), p.scalar("sigma"), p.flag("interreflection")))
+    }
+
+    #[inline]
+    fn f(&self, g: &Geometry) -> Vec3 {
+        let (cos_i, cos_r) = (g.nl.min(1.0), g.nv.min(1.0));
+        let sin_i = (1.0 - cos_i * cos_i).max(0.0).sqrt();
+        let sin_r = (1.0 - cos_r * cos_r).max(0.0).sqrt();
+        // α = max(θi, θr) is the angle with the smaller cosine.
+        let (cos_a, sin_a, cos_b, sin_b) =
+            if cos_i < cos_r { (cos_i, sin_i, cos_r, sin_r) } else { (cos_r, sin_r, cos_i, sin_i) };
+        let (alpha, beta) = (cos_a.acos(), cos_b.acos());
+
+        // cos Δφ from the tangent-plane projections; undefined (and irrelevant) at normal incidence.
+        let sin_prod = sin_i * sin_r;
+        let cos_dphi =
+            if sin_prod > 1e-7 { ((g.l.dot(g.v) - g.nl * g.nv) / sin_prod).clamp(-1.0, 1.0) } else { 0.0 };
+
+        let two_beta_pi = beta * FRAC_2_PI;
+        let c2 = self.c2_scale
+            * if cos_dphi >= 0.0 { sin_a } else { sin_a - two_beta_pi * two_beta_pi * two_beta_pi };
+        let four_ab = alpha * beta * (2.0 * FRAC_2_PI * FRAC_1_PI); // 4αβ/π²
+        let c3 = self.c3_scale * four_ab * four_ab;
+        let tan_b = sin_b / cos_b;
+        let tan_half_sum = (sin_a + sin_b) / (cos_a + cos_b);
+
+        let l1 = self.c1 + cos_dphi * c2 * tan_b + (1.0 - cos_dphi.abs()) * c3 * tan_half_sum;
+        let l2 = 1.0 - cos_dphi * two_beta_pi * two_beta_pi;
+        self.rho_pi * l1 + self.l2_term * l2
+    }
+}

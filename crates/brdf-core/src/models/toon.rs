@@ -1,0 +1,177 @@
+//! Toon (cel) shading of seed 000: a three-band diffuse term and a two-level specular term.
+
+use glam::Vec3;
+
+use crate::models::{Bxdf, ModelKind, classic_f};
+use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::{BrdfError, Geometry};
+
+/// What the toon specular thresholds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ToonSpecularMode {
+    /// `v·r` with `r = 2(n·l)n − l` (seed 000's `Toon_Specular_BRDF`).
+    Phong,
+    /// `n·h` with `h = normalize(l + v)` (seed 000: "a Phong or Blinn BRDF with γ = 1").
+    Blinn,
+}
+
+/// Toon shading, a classic model whose `shade` is seed 000's two GLSL functions added:
+///
+/// ```text
+/// diffuse  = dark_scale · diffuse_color   if n·l < dark_threshold      (Toon_Diffuse_BRDF: thr2 = 0.07,
+///          = diffuse_mid_color            if n·l < diffuse_threshold    Cd1 = 0.002 · C)
+///          = diffuse_color                otherwise
+/// specular = specular_color               if x ≥ specular_threshold, else 0
+///            x = v·r (specular_mode = "phong", Toon_Specular_BRDF) or n·h ("blinn")
+/// ```
+///
+/// Bands are half-open as in the GLSL (`<` selects the lower band), so a value exactly on a threshold
+/// takes the upper band. The diffuse bands apply for any `n·l`, including light from behind (which gets
+/// the dark band), exactly as written. The specular term is zeroed for `n·l ≤ 0` when `specular_gate`
+/// is true (default), for the reason given at [`crate::models::PhongClassic`]; `specular_gate = false`
+/// is seed 000's GLSL literally. With `l = −v` there is no half vector and the Blinn specular is 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Toon {
+    /// Lit colour `C` (band `n·l ≥ diffuse_threshold`).
+    pub diffuse_color: Vec3,
+    /// Mid-band colour `Cd` (`dark_threshold ≤ n·l < diffuse_threshold`).
+    pub diffuse_mid_color: Vec3,
+    /// Lower edge of the lit band (`thr` in seed 000).
+    pub diffuse_threshold: f32,
+    /// Lower edge of the mid band (`thr2 = 0.07` in seed 000).
+    pub dark_threshold: f32,
+    /// Dark band = `dark_scale · diffuse_color` (`0.002` in seed 000).
+    pub dark_scale: f32,
+    /// Highlight colour `Ms0`.
+    pub specular_color: Vec3,
+    /// Highlight threshold `t_S` on `v·r` or `n·h`.
+    pub specular_threshold: f32,
+    /// Which cosine is thresholded.
+    pub specular_mode: ToonSpecularMode,
+    /// Zero the specular term when `n·l ≤ 0`.
+    pub specular_gate: bool,
+}
+
+impl Toon {
+    /// The diffuse band colour for a given `n·l` (seed 000's `Toon_Diffuse_BRDF`).
+    #[inline]
+    pub fn diffuse_band(&self, nl: f32) -> Vec3 {
+        if nl < self.dark_threshold {
+            self.dark_scale * self.diffuse_color
+        } else if nl < self.diffuse_threshold {
+            self.diffuse_mid_color
+        } else {
+            self.diffuse_color
+        }
+    }
+
+    /// The specular level for the geometry (seed 000's `Toon_Specular_BRDF`, or its Blinn form).
+    #[inline]
+    pub fn specular_level(&self, g: &Geometry) -> Vec3 {
+        if self.specular_gate && g.nl <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let x = match self.specular_mode {
+            // v·r = 2(n·l)(n·v) − l·v.
+            ToonSpecularMode::Phong => 2.0 * g.nl * g.nv - g.l.dot(g.v),
+            ToonSpecularMode::Blinn => match g.h() {
+                Some(h) => g.n.dot(h),
+                None => return Vec3::ZERO,
+            },
+        };
+        if x >= self.specular_threshold { self.specular_color } else { Vec3::ZERO }
+    }
+}
+
+impl Bxdf for Toon {
+    const SPEC: ModelSpec = ModelSpec {
+        name: "toon",
+        summary: "toon shading: 3-band diffuse on n.l (dark / mid / lit) + thresholded specular on v.r or n.h",
+        source: "seed 000 (Toon diffuse and Toon specular, GLSL)",
+        physical: false,
+        anisotropic: false,
+        params: &[
+            ParamSpec::color("diffuse_color", [0.8, 0.3, 0.2], 0.0, 1.0, "reflectance", "lit-band colour C"),
+            ParamSpec::color(
+                "diffuse_mid_color",
+                [0.4, 0.15, 0.1],
+                0.0,
+                1.0,
+                "reflectance",
+                "mid-band colour Cd (default: half the default diffuse_color; set both together)",
+            ),
+            ParamSpec::scalar(
+                "diffuse_threshold",
+                0.5,
+                -1.0,
+                1.0,
+                "cosine",
+                "n.l at and above which the lit colour is used (thr)",
+            ),
+            ParamSpec::scalar(
+                "dark_threshold",
+                0.07,
+                -1.0,
+                1.0,
+                "cosine",
+                "n.l below which the dark band is used (thr2 = 0.07 in seed 000)",
+            ),
+            ParamSpec::scalar(
+                "dark_scale",
+                0.002,
+                0.0,
+                1.0,
+                "1",
+                "dark band = dark_scale * diffuse_color (0.002 in seed 000)",
+            ),
+            ParamSpec::color("specular_color", [1.0, 1.0, 1.0], 0.0, 1.0, "reflectance", "highlight colour"),
+            ParamSpec::scalar(
+                "specular_threshold",
+                0.9,
+                -1.0,
+                1.0,
+                "cosine",
+                "v.r (phong) or n.h (blinn) at and above which the highlight is drawn",
+            ),
+            ParamSpec::choice(
+                "specular_mode",
+                &["phong", "blinn"],
+                "phong",
+                "thresholded cosine: v.r or n.h",
+            ),
+            ParamSpec::flag(
+                "specular_gate",
+                true,
+                "no highlight when n.l <= 0 (false: seed 000's GLSL, which does not gate)",
+            ),
+        ],
+    };
+    const KIND: ModelKind = ModelKind::Classic;
+
+    fn from_params(p: &Params) -> Result<Self, BrdfError> {
+        Ok(Self {
+            diffuse_color: p.color("diffuse_color"),
+            diffuse_mid_color: p.color("diffuse_mid_color"),
+            diffuse_threshold: p.scalar("diffuse_threshold"),
+            dark_threshold: p.scalar("dark_threshold"),
+            dark_scale: p.scalar("dark_scale"),
+            specular_color: p.color("specular_color"),
+            specular_threshold: p.scalar("specular_threshold"),
+            specular_mode: match p.choice("specular_mode") {
+                "blinn" => ToonSpecularMode::Blinn,
+                _ => ToonSpecularMode::Phong,
+            },
+            specular_gate: p.flag("specular_gate"),
+        })
+    }
+
+    #[inline]
+    fn f(&self, g: &Geometry) -> Vec3 {
+        classic_f(self.shade(g), g)
+    }
+
+    #[inline]
+    fn shade(&self, g: &Geometry) -> Vec3 {
+        self.diffuse_band(g.nl) + self.specular_level(g)
+    }
+}

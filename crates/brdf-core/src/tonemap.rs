@@ -1,0 +1,245 @@
+//! From linear HDR radiance to display values: clamping (seed 000), HDR tone-mapping operators that
+//! map `[0, ∞)` into `[0, 1]`, exposure, the sRGB transfer function and 8-bit quantisation.
+//!
+//! The pipeline for writing an 8-bit image is `exposure → operator → sRGB OETF → to_u8`
+//! ([`encode_srgb8`]). Each step is a separate, explicit function: nothing in the shading code clamps.
+//!
+//! Every function works per channel on linear RGB. Inputs that are negative or NaN are treated as 0
+//! and `+∞` as the largest finite value, so that no operator ever returns NaN (a NaN pixel would
+//! otherwise poison every later image operation).
+
+use glam::Vec3;
+
+use crate::BrdfError;
+
+/// Replace NaN and negative values by 0 and `+∞` by `f32::MAX` (`f32::max` ignores a NaN operand).
+// `f32::clamp` would propagate NaN; `max`/`min` map it to 0 on purpose.
+#[allow(clippy::manual_clamp)]
+#[inline]
+fn sanitize(x: f32) -> f32 {
+    x.max(0.0).min(f32::MAX)
+}
+
+/// Clamp one channel to `[0, 1]` (seed 000: `clamp(y) = 0 if y < 0, y if y ∈ [0, 1], 1 if y > 1`);
+/// NaN → 0.
+#[allow(clippy::manual_clamp)] // NaN → 0, which `f32::clamp` would not do
+#[inline]
+pub fn clamp_f32(x: f32) -> f32 {
+    x.max(0.0).min(1.0)
+}
+
+/// Clamp every channel to `[0, 1]` (seed 000, "clamp the values at the end of the computation").
+///
+/// This is the scan-line renderer's answer to values above 1: it loses all detail in bright regions,
+/// which is what the HDR operators below avoid.
+#[inline]
+pub fn clamp(c: Vec3) -> Vec3 {
+    Vec3::new(clamp_f32(c.x), clamp_f32(c.y), clamp_f32(c.z))
+}
+
+/// Simple Reinhard operator of one channel, `x / (1 + x)` (Reinhard, Stark, Shirley, Ferwerda 2002,
+/// "Photographic Tone Reproduction for Digital Images", eq. 3).
+#[inline]
+pub fn reinhard_f32(x: f32) -> f32 {
+    // For x = f32::MAX, 1 + x rounds to x and the quotient is exactly 1, so +∞ maps to 1.
+    let x = sanitize(x);
+    x / (1.0 + x)
+}
+
+/// Simple Reinhard operator `x / (1 + x)`, per channel (Reinhard et al. 2002, eq. 3).
+///
+/// Maps `[0, ∞)` onto `[0, 1)`; it is applied to each RGB channel independently here (the paper applies
+/// it to luminance), which desaturates very bright colours toward white.
+#[inline]
+pub fn reinhard(c: Vec3) -> Vec3 {
+    Vec3::new(reinhard_f32(c.x), reinhard_f32(c.y), reinhard_f32(c.z))
+}
+
+/// Extended Reinhard operator of one channel with white point `white` (> 0):
+/// `x (1 + x / w²) / (1 + x)`, and 1 for `x ≥ w` (Reinhard et al. 2002, eq. 4).
+#[inline]
+pub fn reinhard_extended_f32(x: f32, white: f32) -> f32 {
+    let x = sanitize(x);
+    if !(x < white) {
+        // At and above the white point the operator burns out to white (and a non-positive or NaN
+        // `white` makes every positive value "above white").
+        return if x > 0.0 { 1.0 } else { 0.0 };
+    }
+    // Here 0 ≤ x < white, so white > 0; dividing twice by `white` avoids underflow of white².
+    (x * (1.0 + (x / white) / white) / (1.0 + x)).min(1.0)
+}
+
+/// Extended Reinhard operator `x (1 + x/w²) / (1 + x)` per channel, with white point `white` [same unit
+/// as `x`] (Reinhard et al. 2002, eq. 4). Radiance `w` maps exactly to 1, larger values clamp to 1;
+/// `w → ∞` gives the simple operator.
+#[inline]
+pub fn reinhard_extended(c: Vec3, white: f32) -> Vec3 {
+    Vec3::new(
+        reinhard_extended_f32(c.x, white),
+        reinhard_extended_f32(c.y, white),
+        reinhard_extended_f32(c.z, white),
+    )
+}
+
+/// ACES filmic curve of one channel, `x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14)` clamped to `[0, 1]`.
+#[inline]
+pub fn aces_f32(x: f32) -> f32 {
+    // The curve reaches 1 at x ≈ 7.24 and tends to 2.51/2.43 > 1; capping the input at 1e6 changes no
+    // clamped output and keeps x² finite.
+    let x = sanitize(x).min(1.0e6);
+    (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).min(1.0)
+}
+
+/// ACES filmic tone curve, per channel: Krzysztof Narkowicz's 2015 rational fit to the ACES reference
+/// rendering transform + sRGB output transform ("ACES Filmic Tone Mapping Curve", blog post,
+/// 2016-01-06): `x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14)`, clamped to `[0, 1]`.
+///
+/// Narkowicz fitted the curve to ACES with the input pre-scaled by 0.6; apply
+/// [`exposure`]`(c, log2(0.6))` first to match ACES' own exposure. The raw curve is given here, as most
+/// engines use it.
+#[inline]
+pub fn aces(c: Vec3) -> Vec3 {
+    Vec3::new(aces_f32(c.x), aces_f32(c.y), aces_f32(c.z))
+}
+
+/// Exposure: multiply linear radiance by `2^ev` (`ev` in stops, photographic exposure value offset).
+///
+/// `ev` must be finite (callers validate it); the result is not clamped.
+#[inline]
+pub fn exposure(c: Vec3, ev: f32) -> Vec3 {
+    c * ev.exp2()
+}
+
+/// sRGB opto-electronic transfer function (IEC 61966-2-1) of one channel, after clamping to `[0, 1]`:
+/// `v = 12.92 c` if `c ≤ 0.0031308`, else `v = 1.055 c^(1/2.4) − 0.055` (bench/SCENE.md, "Output").
+#[inline]
+pub fn srgb_encode_f32(c: f32) -> f32 {
+    let c = clamp_f32(c);
+    if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+}
+
+/// sRGB OETF per channel (linear → encoded, both in `[0, 1]`), exactly SCENE.md's "Output" formula;
+/// the input is clamped to `[0, 1]` first.
+#[inline]
+pub fn srgb_encode(c: Vec3) -> Vec3 {
+    Vec3::new(srgb_encode_f32(c.x), srgb_encode_f32(c.y), srgb_encode_f32(c.z))
+}
+
+/// Inverse of [`srgb_encode_f32`] (IEC 61966-2-1): `c = v / 12.92` if `v ≤ 0.04045`, else
+/// `c = ((v + 0.055) / 1.055)^2.4`; the input is clamped to `[0, 1]`.
+#[inline]
+pub fn srgb_decode_f32(v: f32) -> f32 {
+    let v = clamp_f32(v);
+    if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+}
+
+/// sRGB decoding per channel (encoded → linear), inverse of [`srgb_encode`] on `[0, 1]`.
+#[inline]
+pub fn srgb_decode(v: Vec3) -> Vec3 {
+    Vec3::new(srgb_decode_f32(v.x), srgb_decode_f32(v.y), srgb_decode_f32(v.z))
+}
+
+/// Quantise an encoded value to 8 bits: `floor(255 v + 0.5)` after clamping `v` to `[0, 1]`
+/// (round half up, as GL's UNORM8 conversion; SCENE.md "Output"). NaN → 0.
+#[inline]
+pub fn to_u8(v: f32) -> u8 {
+    // In [0, 255.5] after the clamp, so the cast never saturates.
+    (255.0 * clamp_f32(v) + 0.5).floor() as u8
+}
+
+/// A tone-mapping operator: maps linear HDR RGB (any non-negative value) to `[0, 1]` per channel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Operator {
+    /// [`clamp`]: values above 1 saturate (seed 000).
+    Clamp,
+    /// [`reinhard`]: `x / (1 + x)`.
+    Reinhard,
+    /// [`reinhard_extended`] with this white point (> 0).
+    ReinhardExtended {
+        /// Radiance that maps to 1.
+        white: f32,
+    },
+    /// [`aces`]: Narkowicz's ACES filmic fit.
+    Aces,
+}
+
+impl Operator {
+    /// The names [`Operator::from_name`] accepts.
+    pub const NAMES: &'static [&'static str] = &["clamp", "reinhard", "reinhard_extended", "aces"];
+
+    /// Operator by name (one of [`Operator::NAMES`], case-insensitive). `white` is the white point of
+    /// `"reinhard_extended"` (default 4.0; must be finite and > 0) and is ignored by the others.
+    pub fn from_name(name: &str, white: Option<f32>) -> Result<Self, BrdfError> {
+        match name.to_ascii_lowercase().as_str() {
+            "clamp" => Ok(Self::Clamp),
+            "reinhard" => Ok(Self::Reinhard),
+            "aces" => Ok(Self::Aces),
+            "reinhard_extended" => {
+                let white = white.unwrap_or(4.0);
+                if white > 0.0 && white.is_finite() {
+                    Ok(Self::ReinhardExtended { white })
+                } else {
+                    Err(BrdfError::param("white", format!("must be finite and > 0, got {white}")))
+                }
+            }
+            _ => Err(BrdfError::param(
+                "operator",
+                format!("expected one of {}, got {name:?}", Self::NAMES.join(", ")),
+            )),
+        }
+    }
+
+    /// Registry name of the operator.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Clamp => "clamp",
+            Self::Reinhard => "reinhard",
+            Self::ReinhardExtended { .. } => "reinhard_extended",
+            Self::Aces => "aces",
+        }
+    }
+
+    /// Map one linear RGB value into `[0, 1]` per channel.
+    #[inline]
+    pub fn apply(&self, c: Vec3) -> Vec3 {
+        match *self {
+            Self::Clamp => clamp(c),
+            Self::Reinhard => reinhard(c),
+            Self::ReinhardExtended { white } => reinhard_extended(c, white),
+            Self::Aces => aces(c),
+        }
+    }
+}
+
+/// One linear HDR colour to an 8-bit sRGB pixel: `to_u8(srgb_encode(op.apply(c)))` per channel.
+#[inline]
+pub fn encode_srgb8(c: Vec3, op: Operator) -> [u8; 3] {
+    let e = srgb_encode(op.apply(c));
+    [to_u8(e.x), to_u8(e.y), to_u8(e.z)]
+}
+
+/// [`encode_srgb8`] over a slice (e.g. an `H×W` image in row-major order), in parallel when large;
+/// every output depends only on its own input, so the bytes are the same for any thread count.
+pub fn encode_srgb8_slice(src: &[Vec3], op: Operator, dst: &mut [[u8; 3]]) -> Result<(), BrdfError> {
+    if src.len() != dst.len() {
+        return Err(BrdfError::InvalidInput {
+            name: "dst",
+            problem: format!("has {} pixels, expected {} (the length of the source)", dst.len(), src.len()),
+        });
+    }
+    crate::batch::map(src, dst, |c| encode_srgb8(c, op));
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decode_inverts_encode_on_the_unit_interval() {
+        for i in 0..=1000 {
+            let c = i as f32 / 1000.0;
+            assert!((srgb_decode_f32(srgb_encode_f32(c)) - c).abs() < 2e-6, "{c}");
+        }
+    }
+}
