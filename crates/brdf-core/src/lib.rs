@@ -23,9 +23,12 @@
 pub mod batch;
 pub mod error;
 pub mod frame;
+pub mod fresnel;
 pub mod geometry;
 pub mod illumination;
 pub mod lights;
+pub mod masking;
+pub mod microfacet;
 pub mod models;
 pub mod params;
 pub mod tonemap;

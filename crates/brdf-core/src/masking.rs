@@ -1,0 +1,189 @@
+//! Shadowing–masking terms `G(l, v)` (dimensionless, in [0, 1]) for microfacet BRDFs
+//! (seed 001 "Geometric term G", "G alternative (GGX)", "Cheap G"; seed 002 "Geometric
+//! Attenuation"; seed 004 "Cook-Torrance (9)–(10)"; notes (b5), (b6)).
+//!
+//! - V-groove (Torrance & Sparrow 1967; Cook & Torrance 1982):
+//!   `G = min(1, 2(n·h)(n·v)/(v·h), 2(n·h)(n·l)/(v·h))` (`v·h = l·h` for reflection).
+//! - Smith, height-correlated (the default; Heitz 2014 "Understanding the masking-shadowing
+//!   function", pbrt-v4): `G = 1/(1 + Λ(l) + Λ(v))`.
+//! - Smith, separable (Walter et al. 2007; Mitsuba 3): `G = G1(l) G1(v)`, `G1 = 1/(1 + Λ)`.
+//!   Always ≤ the height-correlated form.
+//! - Kelemen & Szirmay-Kalos 2001: `G/((n·l)(n·v)) = 1/(l·h)²`, i.e. `G = (n·l)(n·v)/(v·h)²` (≤ 1).
+//! - None: `G = 1`.
+//!
+//! Λ comes from the distribution: GGX and Beckmann have their own; the others map to Beckmann
+//! (see [`crate::microfacet`]). V-groove and Kelemen ignore the distribution.
+//!
+//! Hot paths want `G/(4 (n·l)(n·v))` (the "visibility"), see [`Masking::visibility`]: for GGX with the
+//! height-correlated Smith term it costs two square roots and one division
+//! ([`crate::microfacet::ggx::visibility_height_correlated`]).
+
+use glam::Vec3A;
+
+use crate::BrdfError;
+use crate::frame::ShadingFrame;
+use crate::microfacet::{Distribution, Mixture, beckmann, ggx};
+use crate::vector::halfway;
+
+/// Registry names of the masking terms.
+pub const MASKING_NAMES: [&str; 5] = ["smith", "smith_separable", "v_groove", "kelemen", "none"];
+
+/// V-groove (Cook–Torrance / Torrance–Sparrow) `G = min(1, 2(n·h)(n·v)/(v·h), 2(n·h)(n·l)/(v·h))`.
+/// 0 when any of the cosines is ≤ 0 (light or viewer below the surface, or `v·h ≤ 0`).
+#[inline]
+pub fn v_groove(nl: f32, nv: f32, nh: f32, vh: f32) -> f32 {
+    if !(nl > 0.0 && nv > 0.0 && nh > 0.0 && vh > 0.0) {
+        return 0.0;
+    }
+    (2.0 * nh * nl.min(nv) / vh).min(1.0)
+}
+
+/// Kelemen & Szirmay-Kalos `G = (n·l)(n·v)/(v·h)²` (so that `G/((n·l)(n·v)) = 1/(l·h)²`, seed 001;
+/// notes (b6)). Never exceeds 1 (since `(v·h)² = (1 + l·v)/2 ≥ (n·l)(n·v)`). 0 when any cosine ≤ 0.
+#[inline]
+pub fn kelemen(nl: f32, nv: f32, vh: f32) -> f32 {
+    if !(nl > 0.0 && nv > 0.0 && vh > 0.0) {
+        return 0.0;
+    }
+    (nl * nv / (vh * vh)).min(1.0)
+}
+
+/// Height-correlated Smith `G = 1/(1 + Λ(l) + Λ(v))` from the two Λ values (0 if either is +∞).
+#[inline]
+pub fn smith_height_correlated(lambda_l: f32, lambda_v: f32) -> f32 {
+    1.0 / (1.0 + lambda_l + lambda_v)
+}
+
+/// Separable Smith `G = 1/((1 + Λ(l))(1 + Λ(v)))` from the two Λ values (0 if either is +∞).
+#[inline]
+pub fn smith_separable(lambda_l: f32, lambda_v: f32) -> f32 {
+    1.0 / ((1.0 + lambda_l) * (1.0 + lambda_v))
+}
+
+/// Height-correlated Smith G for isotropic GGX of roughness α, from `n·l`, `n·v`.
+#[inline]
+pub fn smith_ggx(nl: f32, nv: f32, alpha: f32) -> f32 {
+    smith_height_correlated(ggx::lambda(nl, alpha), ggx::lambda(nv, alpha))
+}
+
+/// Separable Smith G for isotropic GGX: `G1(l) G1(v)`.
+#[inline]
+pub fn smith_ggx_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
+    smith_separable(ggx::lambda(nl, alpha), ggx::lambda(nv, alpha))
+}
+
+/// Height-correlated Smith G for isotropic Beckmann (exact erf Λ).
+#[inline]
+pub fn smith_beckmann(nl: f32, nv: f32, alpha: f32) -> f32 {
+    smith_height_correlated(beckmann::lambda(nl, alpha), beckmann::lambda(nv, alpha))
+}
+
+/// Separable Smith G for isotropic Beckmann (exact erf Λ).
+#[inline]
+pub fn smith_beckmann_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
+    smith_separable(beckmann::lambda(nl, alpha), beckmann::lambda(nv, alpha))
+}
+
+/// Which shadowing–masking term a microfacet model uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Masking {
+    /// Height-correlated Smith (default).
+    Smith,
+    /// Separable Smith.
+    SmithSeparable,
+    /// Cook–Torrance / Torrance–Sparrow V-groove.
+    VGroove,
+    /// Kelemen & Szirmay-Kalos.
+    Kelemen,
+    /// G = 1.
+    None,
+}
+
+impl Masking {
+    /// Parse a registry name ([`MASKING_NAMES`]).
+    pub fn from_name(name: &str) -> Result<Self, BrdfError> {
+        match name.to_ascii_lowercase().as_str() {
+            "smith" => Ok(Masking::Smith),
+            "smith_separable" => Ok(Masking::SmithSeparable),
+            "v_groove" => Ok(Masking::VGroove),
+            "kelemen" => Ok(Masking::Kelemen),
+            "none" => Ok(Masking::None),
+            _ => Err(BrdfError::param(
+                "masking",
+                format!("expected one of {}, got {name:?}", MASKING_NAMES.join(", ")),
+            )),
+        }
+    }
+
+    /// Registry name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Masking::Smith => "smith",
+            Masking::SmithSeparable => "smith_separable",
+            Masking::VGroove => "v_groove",
+            Masking::Kelemen => "kelemen",
+            Masking::None => "none",
+        }
+    }
+
+    /// `G` for an isotropic distribution from the cosines `n·l`, `n·v`, `n·h`, `v·h`
+    /// (anisotropic lobes are taken at φ = 0, see [`Distribution::d_cos`]). 0 below the horizon.
+    #[inline]
+    pub fn g_cos(self, nl: f32, nv: f32, nh: f32, vh: f32, d: &Mixture) -> f32 {
+        if !(nl > 0.0 && nv > 0.0) {
+            return 0.0;
+        }
+        match self {
+            Masking::Smith => smith_height_correlated(d.lambda_cos(nl), d.lambda_cos(nv)),
+            Masking::SmithSeparable => smith_separable(d.lambda_cos(nl), d.lambda_cos(nv)),
+            Masking::VGroove => v_groove(nl, nv, nh, vh),
+            Masking::Kelemen => kelemen(nl, nv, vh),
+            Masking::None => 1.0,
+        }
+    }
+
+    /// `G` for unit local directions `l`, `v` (z = normal) and their half vector `h`; anisotropic
+    /// Smith Λ where the distribution is anisotropic.
+    #[inline]
+    pub fn g_local(self, l: Vec3A, v: Vec3A, h: Vec3A, d: &Mixture) -> f32 {
+        let (nl, nv, nh, vh) = (l.z, v.z, h.z, v.dot(h));
+        if !(nl > 0.0 && nv > 0.0) {
+            return 0.0;
+        }
+        match self {
+            Masking::Smith => smith_height_correlated(d.lambda(l), d.lambda(v)),
+            Masking::SmithSeparable => smith_separable(d.lambda(l), d.lambda(v)),
+            Masking::VGroove => v_groove(nl, nv, nh, vh),
+            Masking::Kelemen => kelemen(nl, nv, vh),
+            Masking::None => 1.0,
+        }
+    }
+
+    /// `G` for world-space unit `l`, `v`, `n` and an optional tangent (for batch/Python use).
+    /// 0 when `l = −v` (no half vector) or either direction is below the surface.
+    pub fn g_world(self, l: Vec3A, v: Vec3A, n: Vec3A, tangent: Option<Vec3A>, d: &Mixture) -> f32 {
+        let Some(h) = halfway(l, v) else { return 0.0 };
+        let frame = match tangent {
+            Some(t) => ShadingFrame::from_normal_tangent(n, t),
+            None => ShadingFrame::from_normal(n),
+        };
+        self.g_local(frame.to_local(l), frame.to_local(v), frame.to_local(h), d)
+    }
+
+    /// The visibility `G/(4 (n·l)(n·v))` [dimensionless / cos²] for an isotropic distribution, from
+    /// cosines; the closed GGX forms for a single GGX lobe (no tan, no Λ). 0 below the horizon.
+    #[inline]
+    pub fn visibility(self, nl: f32, nv: f32, nh: f32, vh: f32, d: &Mixture) -> f32 {
+        if !(nl > 0.0 && nv > 0.0) {
+            return 0.0;
+        }
+        if let Some(Distribution::Ggx { alpha_x, .. }) = d.as_single() {
+            match self {
+                Masking::Smith => return ggx::visibility_height_correlated(nl, nv, *alpha_x),
+                Masking::SmithSeparable => return ggx::visibility_separable(nl, nv, *alpha_x),
+                _ => {}
+            }
+        }
+        self.g_cos(nl, nv, nh, vh, d) / (4.0 * nl * nv)
+    }
+}

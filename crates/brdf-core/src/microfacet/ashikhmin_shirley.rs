@@ -1,0 +1,49 @@
+//! Ashikhmin–Shirley anisotropic Phong distribution (Ashikhmin & Shirley 2000; seed 001
+//! "Ашихмин-Shirley anisotropic (2000)").
+//!
+//! Exponent `e(h) = nu cos²φ_h + nv sin²φ_h = (nu hx² + nv hy²)/(hx² + hy²)` (local frame, x = tangent).
+//! Two normalisations of `(n·h)^e` are exact, and they answer different questions:
+//! - [`pdf_h`] `= √((nu+1)(nv+1))/(2π) · (n·h)^e` integrates to 1 over the hemisphere *without* the
+//!   cosine: it is AS2000's density of half vectors, the one their BRDF (`models::ashikhmin_shirley`)
+//!   and their sampling routine use (the density of their warp is exactly this).
+//! - [`d`] `= √((nu+2)(nv+2))/(2π) · (n·h)^e` satisfies the microfacet normalisation
+//!   `∫ D cosθ dω = 1` (the extra cosine raises each exponent by one); it reduces to the normalised
+//!   Blinn–Phong D for nu = nv.
+//!
+//! Seed 001 prints `√((e_x+1)(e_y+1)) (h·n)^…` without the 1/(2π) and with the pdf's constant.
+
+use glam::Vec3A;
+
+/// Exponent `nu cos²φ_h + nv sin²φ_h` for a unit local half vector; `(nu + nv)/2` at h = n, where
+/// the power is 1 whatever the exponent.
+#[inline]
+pub fn exponent(h: Vec3A, nu: f32, nv: f32) -> f32 {
+    let s2 = h.x * h.x + h.y * h.y;
+    if s2 > 0.0 { (nu * h.x * h.x + nv * h.y * h.y) / s2 } else { 0.5 * (nu + nv) }
+}
+
+/// Microfacet-normalised AS distribution [1/sr]: `√((nu+2)(nv+2))/(2π) · (n·h)^e`; 0 for `hz ≤ 0`.
+/// Exponents are clamped to ≥ 0.
+#[inline]
+pub fn d(h: Vec3A, nu: f32, nv: f32) -> f32 {
+    if !(h.z > 0.0) {
+        return 0.0;
+    }
+    let (nu, nv) = (nu.max(0.0), nv.max(0.0));
+    ((nu + 2.0) * (nv + 2.0)).sqrt()
+        * (0.5 * std::f32::consts::FRAC_1_PI)
+        * h.z.min(1.0).powf(exponent(h, nu, nv))
+}
+
+/// AS2000's half-vector density [1/sr]: `√((nu+1)(nv+1))/(2π) · (n·h)^e`, `∫ pdf_h dω_h = 1`;
+/// 0 for `hz ≤ 0`. Exponents are clamped to ≥ 0.
+#[inline]
+pub fn pdf_h(h: Vec3A, nu: f32, nv: f32) -> f32 {
+    if !(h.z > 0.0) {
+        return 0.0;
+    }
+    let (nu, nv) = (nu.max(0.0), nv.max(0.0));
+    ((nu + 1.0) * (nv + 1.0)).sqrt()
+        * (0.5 * std::f32::consts::FRAC_1_PI)
+        * h.z.min(1.0).powf(exponent(h, nu, nv))
+}

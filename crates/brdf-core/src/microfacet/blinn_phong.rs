@@ -1,0 +1,38 @@
+//! Normalised Blinn–Phong distribution `D(h) = (m + 2)/(2π) · (n·h)^m` (Blinn 1977; seed 001
+//! "Blinn-Phong (normalised)"; Walter et al. 2007 eq. 30).
+//!
+//! `∫ D cosθ dω = (m+2)/(2π) · 2π/(m+2) = 1` exactly. This is the *microfacet* normalisation; the
+//! BRDF normalisation `(m+8)/(8π)` of the `blinn_phong` model is a different thing (notes (b6)).
+//! Walter et al. 2007 relate the exponent to Beckmann's roughness by `m = 2/α² − 2`
+//! ([`exponent_from_alpha`]); the same relation gives a Smith Λ for this D (see `masking`).
+
+use crate::microfacet::ALPHA_MIN;
+
+/// Largest exponent used: the one of [`ALPHA_MIN`] (`2/α² − 2 ≈ 2e8`); keeps `(m+2)/(2π)` finite and
+/// consistent with the roughness floor of the other distributions.
+pub const EXPONENT_MAX: f32 = 2.0 / (ALPHA_MIN * ALPHA_MIN) - 2.0;
+
+/// Blinn–Phong `D` [1/sr] at `cos_h` = n·h for exponent `m` (clamped to [0, [`EXPONENT_MAX`]]);
+/// 0 for `cos_h ≤ 0`.
+#[inline]
+pub fn d(cos_h: f32, exponent: f32) -> f32 {
+    if !(cos_h > 0.0) {
+        return 0.0;
+    }
+    let m = exponent.clamp(0.0, EXPONENT_MAX);
+    (m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI) * cos_h.min(1.0).powf(m)
+}
+
+/// Walter et al. 2007 §5.2: the Blinn–Phong exponent equivalent to Beckmann roughness α,
+/// `m = 2/α² − 2`, clamped to [0, [`EXPONENT_MAX`]] (α ≥ √2 gives the uniform-projected-area m = 0).
+#[inline]
+pub fn exponent_from_alpha(alpha: f32) -> f32 {
+    let a = alpha.max(ALPHA_MIN);
+    (2.0 / (a * a) - 2.0).clamp(0.0, EXPONENT_MAX)
+}
+
+/// Inverse of [`exponent_from_alpha`]: `α = √(2/(m + 2))`.
+#[inline]
+pub fn alpha_from_exponent(exponent: f32) -> f32 {
+    (2.0 / (exponent.clamp(0.0, EXPONENT_MAX) + 2.0)).sqrt()
+}

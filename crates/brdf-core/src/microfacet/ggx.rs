@@ -1,0 +1,108 @@
+//! Trowbridge–Reitz / GGX distribution and its Smith Λ (Trowbridge & Reitz 1975; Walter et al. 2007;
+//! seed 001 "Trowbridge & Reitz", "GGX"; pbrt-v4 `TrowbridgeReitzDistribution`).
+//!
+//! `D(h) = α² / (π cos⁴θ (α² + tan²θ)²) = α² / (π ((1 − cos²θ) + α² cos²θ)²)`, normalised so that
+//! `∫ D(h) cosθ_h dω_h = 1`. Seed 001's Trowbridge–Reitz line `1/(π((n·h)²(m²−1)+1)²)` lacks the
+//! numerator α² (its normalisation constant); with it the two seed forms are the same function.
+//! We evaluate the denominator as `(1 − c²) + α²c²` rather than `c²(α² − 1) + 1`: in f32, `α² − 1`
+//! rounds to −1 for α ≲ 3e−4 and the peak would become α²/0.
+
+use glam::Vec3A;
+
+use crate::microfacet::ALPHA_MIN;
+
+/// Isotropic GGX `D` [1/sr] at `cos_h` = n·h for roughness α (clamped to ≥ [`ALPHA_MIN`]);
+/// 0 for `cos_h ≤ 0` (the χ⁺ of seed 001).
+#[inline]
+pub fn d(cos_h: f32, alpha: f32) -> f32 {
+    if !(cos_h > 0.0) {
+        return 0.0;
+    }
+    let a2 = {
+        let a = alpha.max(ALPHA_MIN);
+        a * a
+    };
+    let c2 = (cos_h * cos_h).min(1.0);
+    let t = (1.0 - c2) + a2 * c2;
+    a2 * std::f32::consts::FRAC_1_PI / (t * t)
+}
+
+/// Anisotropic GGX `D` [1/sr] for a unit half vector in the local frame (x = tangent, z = normal):
+/// `1 / (π αx αy cos⁴θ (1 + tan²θ (cos²φ/αx² + sin²φ/αy²))²)`, written without trigonometry as
+/// `1 / (π αx αy (hx²/αx² + hy²/αy² + hz²)²)` (pbrt-v4 `TrowbridgeReitzDistribution::D`).
+#[inline]
+pub fn d_aniso(h: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
+    if !(h.z > 0.0) {
+        return 0.0;
+    }
+    let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
+    let x = h.x / ax;
+    let y = h.y / ay;
+    let t = x * x + y * y + h.z * h.z;
+    std::f32::consts::FRAC_1_PI / (ax * ay * t * t)
+}
+
+/// Smith `Λ` of GGX for a direction at `cos_theta` = n·w: `Λ = (√(1 + α² tan²θ) − 1)/2`
+/// (Walter et al. 2007 eq. 34 via G1 = 1/(1+Λ); Heitz 2014). +∞ for `cos_theta ≤ 0`.
+#[inline]
+pub fn lambda(cos_theta: f32, alpha: f32) -> f32 {
+    if !(cos_theta > 0.0) {
+        return f32::INFINITY;
+    }
+    let a = alpha.max(ALPHA_MIN);
+    let c2 = (cos_theta * cos_theta).min(1.0);
+    let a2_tan2 = a * a * (1.0 - c2) / c2;
+    0.5 * ((1.0 + a2_tan2).sqrt() - 1.0)
+}
+
+/// Anisotropic Smith `Λ` of GGX for a unit local direction: α² tan²θ →
+/// `(wx² αx² + wy² αy²)/wz²` (α projected on the direction's azimuth; pbrt-v4 `Lambda`).
+#[inline]
+pub fn lambda_aniso(w: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
+    if !(w.z > 0.0) {
+        return f32::INFINITY;
+    }
+    let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
+    let a2_tan2 = ((w.x * ax).powi(2) + (w.y * ay).powi(2)) / (w.z * w.z);
+    0.5 * ((1.0 + a2_tan2).sqrt() - 1.0)
+}
+
+/// Smith masking of one direction for GGX, `G1 = 1/(1 + Λ) = 2/(1 + √(1 + α² tan²θ))`
+/// (seed 001 "G alternative (GGX)"; Walter et al. 2007 eq. 34). 0 for `cos_theta ≤ 0`, 1 at normal
+/// incidence.
+#[inline]
+pub fn g1(cos_theta: f32, alpha: f32) -> f32 {
+    1.0 / (1.0 + lambda(cos_theta, alpha))
+}
+
+/// Height-correlated Smith visibility of GGX, `V = G2/(4 (n·l)(n·v))` with
+/// `G2 = 1/(1 + Λ(l) + Λ(v))` (Heitz 2014; notes (b5)):
+/// `V = 0.5 / ((n·v) √((n·l)²(1 − α²) + α²) + (n·l) √((n·v)²(1 − α²) + α²))`.
+/// The form the Cook–Torrance hot path uses: two square roots, one division, no tan. 0 unless both
+/// cosines are positive.
+#[inline]
+pub fn visibility_height_correlated(nl: f32, nv: f32, alpha: f32) -> f32 {
+    if !(nl > 0.0 && nv > 0.0) {
+        return 0.0;
+    }
+    let a = alpha.max(ALPHA_MIN);
+    let a2 = a * a;
+    let ll = (nl * nl * (1.0 - a2) + a2).sqrt();
+    let lv = (nv * nv * (1.0 - a2) + a2).sqrt();
+    0.5 / (nv * ll + nl * lv)
+}
+
+/// Separable Smith visibility of GGX, `V = G1(l) G1(v)/(4 (n·l)(n·v))`
+/// `= 1/((n·l + √((n·l)²(1 − α²) + α²)) (n·v + √((n·v)²(1 − α²) + α²)))` (Walter et al. 2007;
+/// notes (b5)). 0 unless both cosines are positive.
+#[inline]
+pub fn visibility_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
+    if !(nl > 0.0 && nv > 0.0) {
+        return 0.0;
+    }
+    let a = alpha.max(ALPHA_MIN);
+    let a2 = a * a;
+    let ll = (nl * nl * (1.0 - a2) + a2).sqrt();
+    let lv = (nv * nv * (1.0 - a2) + a2).sqrt();
+    1.0 / ((nl + ll) * (nv + lv))
+}

@@ -1,0 +1,386 @@
+//! Microfacet distributions of normals `D(h)` [1/sr] and their Smith `Λ`, one file per distribution,
+//! plus the [`Distribution`] enum the models compose and a weighted [`Mixture`] of lobes
+//! (seed 001 "Microfacet theory" … "Mixture"; seeds 002, 004; Walter et al. 2007).
+//!
+//! Every `D` is normalised so that the projected microfacet area is the macro-surface area:
+//! `∫_Ω D(h) (n·h) dω_h = 1` (notes (b1); the integration tests check it by quadrature for each
+//! distribution at several roughnesses). `D` is evaluated on a unit half vector in the *local* frame
+//! (z = normal, x = tangent; see [`crate::frame`]); isotropic distributions also take `cos θ_h = n·h`
+//! directly so isotropic models need no frame.
+//!
+//! Roughness floor: every α is clamped to ≥ [`ALPHA_MIN`] = 1e−4 (pbrt-v4
+//! `TrowbridgeReitzDistribution`). Below it the lobe is narrower than f32 can resolve around
+//! cos θ = 1, the peak `1/(πα²)` heads for overflow, and `tan²θ/α²` becomes 0/0 at the peak; a
+//! near-mirror is better rendered as a mirror.
+//!
+//! Smith `Λ`: exact for GGX ([`ggx::lambda`]) and Beckmann ([`beckmann::lambda`], erf form). The other
+//! distributions have no closed-form Λ of their own; [`Distribution::lambda`] maps them to the
+//! Beckmann Λ of an equivalent roughness (Walter et al. 2007 §5.2): Blinn–Phong and Ashikhmin–Shirley
+//! exponents by `α = √(2/(m+2))`, the Gaussian by `α = m` (both are Gaussians in the slope for
+//! small angles), Ward exactly (it *is* anisotropic Beckmann).
+
+pub mod ashikhmin_shirley;
+pub mod beckmann;
+pub mod blinn_phong;
+pub mod gaussian;
+pub mod ggx;
+pub mod ward;
+
+use glam::Vec3A;
+
+pub use gaussian::Gaussian;
+
+use crate::BrdfError;
+use crate::frame::ShadingFrame;
+
+/// Smallest roughness α used anywhere (pbrt-v4's floor; see the module docs).
+pub const ALPHA_MIN: f32 = 1e-4;
+
+/// Registry names of the distributions, in documentation order.
+pub const DISTRIBUTION_NAMES: [&str; 6] =
+    ["beckmann", "ggx", "gaussian", "blinn_phong", "ward", "ashikhmin_shirley"];
+
+/// One microfacet distribution with its parameters (floors applied by the constructors).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Distribution {
+    /// [`beckmann::d_aniso`] (isotropic when `alpha_x == alpha_y`).
+    Beckmann {
+        /// RMS slope along the tangent.
+        alpha_x: f32,
+        /// RMS slope along the bitangent.
+        alpha_y: f32,
+    },
+    /// [`ggx::d_aniso`] (isotropic when `alpha_x == alpha_y`).
+    Ggx {
+        /// Roughness along the tangent.
+        alpha_x: f32,
+        /// Roughness along the bitangent.
+        alpha_y: f32,
+    },
+    /// [`Gaussian`] in the half-angle (isotropic).
+    Gaussian(Gaussian),
+    /// [`blinn_phong::d`] (isotropic).
+    BlinnPhong {
+        /// Exponent m ≥ 0.
+        exponent: f32,
+    },
+    /// [`ward::d`] (normalised Ward = anisotropic Beckmann).
+    Ward {
+        /// RMS slope along the tangent.
+        alpha_x: f32,
+        /// RMS slope along the bitangent.
+        alpha_y: f32,
+    },
+    /// [`ashikhmin_shirley::d`] (microfacet-normalised).
+    AshikhminShirley {
+        /// Exponent along the tangent.
+        nu: f32,
+        /// Exponent along the bitangent.
+        nv: f32,
+    },
+}
+
+fn floor_alpha(a: f32) -> f32 {
+    if a.is_nan() { ALPHA_MIN } else { a.max(ALPHA_MIN) }
+}
+
+fn clamp_exponent(e: f32) -> f32 {
+    if e.is_nan() { 0.0 } else { e.clamp(0.0, blinn_phong::EXPONENT_MAX) }
+}
+
+impl Distribution {
+    /// Isotropic Beckmann of RMS slope α.
+    pub fn beckmann(alpha: f32) -> Self {
+        Self::beckmann_aniso(alpha, alpha)
+    }
+    /// Anisotropic Beckmann.
+    pub fn beckmann_aniso(alpha_x: f32, alpha_y: f32) -> Self {
+        Distribution::Beckmann { alpha_x: floor_alpha(alpha_x), alpha_y: floor_alpha(alpha_y) }
+    }
+    /// Isotropic GGX of roughness α.
+    pub fn ggx(alpha: f32) -> Self {
+        Self::ggx_aniso(alpha, alpha)
+    }
+    /// Anisotropic GGX.
+    pub fn ggx_aniso(alpha_x: f32, alpha_y: f32) -> Self {
+        Distribution::Ggx { alpha_x: floor_alpha(alpha_x), alpha_y: floor_alpha(alpha_y) }
+    }
+    /// Gaussian of RMS slope angle m [rad] (normalisation computed here, once).
+    pub fn gaussian(m: f32) -> Self {
+        Distribution::Gaussian(Gaussian::new(floor_alpha(m)))
+    }
+    /// Normalised Blinn–Phong of exponent m.
+    pub fn blinn_phong(exponent: f32) -> Self {
+        Distribution::BlinnPhong { exponent: clamp_exponent(exponent) }
+    }
+    /// Normalised anisotropic Ward.
+    pub fn ward(alpha_x: f32, alpha_y: f32) -> Self {
+        Distribution::Ward { alpha_x: floor_alpha(alpha_x), alpha_y: floor_alpha(alpha_y) }
+    }
+    /// Microfacet-normalised Ashikhmin–Shirley with exponents nu (tangent), nv (bitangent).
+    pub fn ashikhmin_shirley(nu: f32, nv: f32) -> Self {
+        Distribution::AshikhminShirley { nu: clamp_exponent(nu), nv: clamp_exponent(nv) }
+    }
+
+    /// Build by name with each distribution's *native* parameters: α (RMS slope / roughness) for
+    /// `beckmann`, `ggx`, `ward`; m [rad] for `gaussian`; the exponent for `blinn_phong`;
+    /// (nu, nv) for `ashikhmin_shirley`. `a_y` is the second (bitangent) parameter of the anisotropic
+    /// ones (default `a`); it is refused for the isotropic ones if it differs from `a`.
+    pub fn from_name(name: &str, a: f32, a_y: Option<f32>) -> Result<Self, BrdfError> {
+        let check = |arg: &str, x: f32| {
+            if x.is_finite() && x >= 0.0 {
+                Ok(x)
+            } else {
+                Err(BrdfError::param(arg, format!("must be finite and >= 0, got {x}")))
+            }
+        };
+        let a = check("alpha", a)?;
+        let ay = check("alpha_y", a_y.unwrap_or(a))?;
+        let isotropic_only = |d: Self| {
+            if ay == a {
+                Ok(d)
+            } else {
+                Err(BrdfError::param(
+                    "alpha_y",
+                    format!("distribution {name:?} is isotropic; alpha_y must be omitted"),
+                ))
+            }
+        };
+        match name.to_ascii_lowercase().as_str() {
+            "beckmann" => Ok(Self::beckmann_aniso(a, ay)),
+            "ggx" | "trowbridge_reitz" => Ok(Self::ggx_aniso(a, ay)),
+            "ward" => Ok(Self::ward(a, ay)),
+            "ashikhmin_shirley" => Ok(Self::ashikhmin_shirley(a, ay)),
+            "gaussian" => isotropic_only(Self::gaussian(a)),
+            "blinn_phong" => isotropic_only(Self::blinn_phong(a)),
+            _ => Err(BrdfError::param(
+                "distribution",
+                format!("expected one of {}, got {name:?}", DISTRIBUTION_NAMES.join(", ")),
+            )),
+        }
+    }
+
+    /// Build an isotropic distribution by name from one roughness α, mapped to each distribution's
+    /// native parameter: α itself for `beckmann`, `ggx`, `ward`; m = α for `gaussian`; the Walter et al.
+    /// 2007 exponent `2/α² − 2` for `blinn_phong` and `ashikhmin_shirley`. This is what the
+    /// Cook–Torrance model's single `roughness` means for each choice.
+    pub fn from_roughness(name: &str, alpha: f32) -> Result<Self, BrdfError> {
+        match name.to_ascii_lowercase().as_str() {
+            "blinn_phong" | "ashikhmin_shirley" => {
+                if !(alpha.is_finite() && alpha >= 0.0) {
+                    return Err(BrdfError::param(
+                        "roughness",
+                        format!("must be finite and >= 0, got {alpha}"),
+                    ));
+                }
+                let e = blinn_phong::exponent_from_alpha(alpha);
+                Self::from_name(name, e, None)
+            }
+            _ => Self::from_name(name, alpha, None),
+        }
+    }
+
+    /// Registry name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Distribution::Beckmann { .. } => "beckmann",
+            Distribution::Ggx { .. } => "ggx",
+            Distribution::Gaussian(_) => "gaussian",
+            Distribution::BlinnPhong { .. } => "blinn_phong",
+            Distribution::Ward { .. } => "ward",
+            Distribution::AshikhminShirley { .. } => "ashikhmin_shirley",
+        }
+    }
+
+    /// `true` when `D` depends on θ_h only.
+    pub fn is_isotropic(&self) -> bool {
+        match *self {
+            Distribution::Beckmann { alpha_x, alpha_y }
+            | Distribution::Ggx { alpha_x, alpha_y }
+            | Distribution::Ward { alpha_x, alpha_y } => alpha_x == alpha_y,
+            Distribution::AshikhminShirley { nu, nv } => nu == nv,
+            Distribution::Gaussian(_) | Distribution::BlinnPhong { .. } => true,
+        }
+    }
+
+    /// `D(h)` [1/sr] for a unit half vector in the local frame (z = normal, x = tangent).
+    #[inline]
+    pub fn d(&self, h: Vec3A) -> f32 {
+        match *self {
+            Distribution::Beckmann { alpha_x, alpha_y } => beckmann::d_aniso(h, alpha_x, alpha_y),
+            Distribution::Ggx { alpha_x, alpha_y } => ggx::d_aniso(h, alpha_x, alpha_y),
+            Distribution::Gaussian(g) => g.d(h.z),
+            Distribution::BlinnPhong { exponent } => blinn_phong::d(h.z, exponent),
+            Distribution::Ward { alpha_x, alpha_y } => ward::d(h, alpha_x, alpha_y),
+            Distribution::AshikhminShirley { nu, nv } => ashikhmin_shirley::d(h, nu, nv),
+        }
+    }
+
+    /// `D` [1/sr] from `cos_h` = n·h alone, for isotropic models that never build a frame. For an
+    /// anisotropic distribution this is its value with h in the tangent–normal plane (φ_h = 0, i.e.
+    /// `alpha_x` / `nu`): build a frame and call [`Distribution::d`] instead.
+    #[inline]
+    pub fn d_cos(&self, cos_h: f32) -> f32 {
+        match *self {
+            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
+                beckmann::d(cos_h, alpha_x)
+            }
+            Distribution::Ggx { alpha_x, .. } => ggx::d(cos_h, alpha_x),
+            Distribution::Gaussian(g) => g.d(cos_h),
+            Distribution::BlinnPhong { exponent } => blinn_phong::d(cos_h, exponent),
+            Distribution::AshikhminShirley { nu, .. } => blinn_phong::d(cos_h, nu),
+        }
+    }
+
+    /// `D` [1/sr] for world-space unit `h` and normal `n`, with an optional tangent (an arbitrary
+    /// frame is built from `n` without one). Convenience for batch/Python evaluation.
+    pub fn d_world(&self, h: Vec3A, n: Vec3A, tangent: Option<Vec3A>) -> f32 {
+        let frame = match tangent {
+            Some(t) => ShadingFrame::from_normal_tangent(n, t),
+            None => ShadingFrame::from_normal(n),
+        };
+        self.d(frame.to_local(h))
+    }
+
+    /// Beckmann roughness (αx, αy) whose Smith Λ this distribution uses (see the module docs).
+    pub fn beckmann_equivalent(&self) -> (f32, f32) {
+        match *self {
+            Distribution::Beckmann { alpha_x, alpha_y }
+            | Distribution::Ward { alpha_x, alpha_y }
+            | Distribution::Ggx { alpha_x, alpha_y } => (alpha_x, alpha_y),
+            Distribution::Gaussian(g) => (g.m, g.m),
+            Distribution::BlinnPhong { exponent } => {
+                let a = blinn_phong::alpha_from_exponent(exponent);
+                (a, a)
+            }
+            Distribution::AshikhminShirley { nu, nv } => {
+                (blinn_phong::alpha_from_exponent(nu), blinn_phong::alpha_from_exponent(nv))
+            }
+        }
+    }
+
+    /// Smith `Λ(w)` for a unit local direction: GGX's own, Beckmann's exact, others mapped to
+    /// Beckmann (module docs). +∞ below the horizon.
+    #[inline]
+    pub fn lambda(&self, w: Vec3A) -> f32 {
+        match *self {
+            Distribution::Ggx { alpha_x, alpha_y } => ggx::lambda_aniso(w, alpha_x, alpha_y),
+            _ => {
+                let (ax, ay) = self.beckmann_equivalent();
+                beckmann::lambda_aniso(w, ax, ay)
+            }
+        }
+    }
+
+    /// Smith `Λ` from `cos θ` alone (isotropic; anisotropic ones at φ = 0, as [`Distribution::d_cos`]).
+    #[inline]
+    pub fn lambda_cos(&self, cos_theta: f32) -> f32 {
+        match *self {
+            Distribution::Ggx { alpha_x, .. } => ggx::lambda(cos_theta, alpha_x),
+            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
+                beckmann::lambda(cos_theta, alpha_x)
+            }
+            _ => beckmann::lambda(cos_theta, self.beckmann_equivalent().0),
+        }
+    }
+
+    /// Smith masking of one direction `G1 = 1/(1 + Λ(w))`, local frame.
+    #[inline]
+    pub fn g1(&self, w: Vec3A) -> f32 {
+        1.0 / (1.0 + self.lambda(w))
+    }
+}
+
+/// Most lobes a [`Mixture`] holds (fixed so a mixture is `Copy` and never allocates).
+pub const MAX_LOBES: usize = 4;
+
+/// A weighted sum of distributions `D(h) = Σ wᵢ Dᵢ(h)` with `Σ wᵢ = 1` (seed 001 "BRDF – mixture";
+/// Cook & Torrance 1982 used two Beckmann lobes for some metals). Normalisation is preserved.
+///
+/// Smith Λ of the mixture is `Σ wᵢ Λᵢ` exactly: Λ is a linear functional of the slope distribution
+/// (Heitz 2014 eq. 72), and mixing D's mixes slope distributions with the same weights.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mixture {
+    lobes: [(f32, Distribution); MAX_LOBES],
+    len: usize,
+}
+
+impl Mixture {
+    /// One lobe of weight 1.
+    pub fn single(d: Distribution) -> Self {
+        let mut lobes = [(0.0, d); MAX_LOBES];
+        lobes[0] = (1.0, d);
+        Self { lobes, len: 1 }
+    }
+
+    /// Lobes with weights ≥ 0 (renormalised to sum to 1; zero-weight lobes are dropped). Errors on an
+    /// empty list, more than [`MAX_LOBES`] lobes, a negative or non-finite weight, or a zero sum.
+    pub fn new(lobes: &[(f32, Distribution)]) -> Result<Self, BrdfError> {
+        if lobes.is_empty() || lobes.len() > MAX_LOBES {
+            return Err(BrdfError::param(
+                "lobes",
+                format!("expected 1 to {MAX_LOBES} lobes, got {}", lobes.len()),
+            ));
+        }
+        if let Some((w, _)) = lobes.iter().find(|(w, _)| !(w.is_finite() && *w >= 0.0)) {
+            return Err(BrdfError::param("weights", format!("must be finite and >= 0, got {w}")));
+        }
+        let sum: f32 = lobes.iter().map(|(w, _)| w).sum();
+        if !(sum > 0.0) {
+            return Err(BrdfError::param("weights", "must not all be 0"));
+        }
+        let mut out = Self::single(lobes[0].1);
+        out.len = 0;
+        for &(w, d) in lobes.iter().filter(|(w, _)| *w > 0.0) {
+            out.lobes[out.len] = (w / sum, d);
+            out.len += 1;
+        }
+        Ok(out)
+    }
+
+    /// The (weight, distribution) pairs, weights summing to 1.
+    pub fn lobes(&self) -> &[(f32, Distribution)] {
+        &self.lobes[..self.len]
+    }
+
+    /// `true` when every lobe is isotropic.
+    pub fn is_isotropic(&self) -> bool {
+        self.lobes().iter().all(|(_, d)| d.is_isotropic())
+    }
+
+    /// The single distribution when there is exactly one lobe.
+    #[inline]
+    pub fn as_single(&self) -> Option<&Distribution> {
+        (self.len == 1).then(|| &self.lobes[0].1)
+    }
+
+    /// `Σ wᵢ Dᵢ(h)` [1/sr], local frame.
+    #[inline]
+    pub fn d(&self, h: Vec3A) -> f32 {
+        self.lobes().iter().map(|(w, d)| w * d.d(h)).sum()
+    }
+
+    /// `Σ wᵢ Dᵢ` from `cos θ_h` (see [`Distribution::d_cos`]).
+    #[inline]
+    pub fn d_cos(&self, cos_h: f32) -> f32 {
+        self.lobes().iter().map(|(w, d)| w * d.d_cos(cos_h)).sum()
+    }
+
+    /// `Σ wᵢ Λᵢ(w)`, local frame.
+    #[inline]
+    pub fn lambda(&self, w: Vec3A) -> f32 {
+        self.lobes().iter().map(|(wt, d)| wt * d.lambda(w)).sum()
+    }
+
+    /// `Σ wᵢ Λᵢ` from `cos θ`.
+    #[inline]
+    pub fn lambda_cos(&self, cos_theta: f32) -> f32 {
+        self.lobes().iter().map(|(wt, d)| wt * d.lambda_cos(cos_theta)).sum()
+    }
+}
+
+impl From<Distribution> for Mixture {
+    fn from(d: Distribution) -> Self {
+        Self::single(d)
+    }
+}
