@@ -2,6 +2,7 @@
 //!
 //! A tiled, multithreaded software rasterizer that shades meshes with `brdf-core` models.
 
+pub mod bvh;
 pub mod error;
 pub mod mesh;
 pub mod normals;

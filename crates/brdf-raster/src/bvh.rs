@@ -1,0 +1,724 @@
+//! A bounding volume hierarchy over world-space triangles, built with a binned surface-area heuristic,
+//! and exact closest-hit / any-hit ray queries (the ray caster behind obscurance and shadows).
+//!
+//! ## Why our own, and not a crate
+//! The two maintained crates were looked at on crates.io: `bvh` 0.13 (nalgebra types, a generic
+//! shape trait, Möller–Trumbore style tests, MSRV 1.90 above the workspace's 1.85) and `obvhs` 0.4 (fast
+//! PLOC/CWBVH builders on glam, but `unsafe` traversal, a radix-sort dependency and no watertight
+//! triangle test). What this crate needs is small and specific: a deterministic build, a watertight
+//! triangle test, a documented tie rule so queries equal brute force exactly, `t_min`/`t_max` ray
+//! segments and no `unsafe` (the workspace denies it). That fits in this one file, which keeps the
+//! behaviour under our control and under test (`tests/bvh.rs` compares against brute force).
+//!
+//! ## Build (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies")
+//! Top-down: each node bins its primitives' centroids into [`BINS`] bins along each axis, evaluates
+//! the SAH cost `C_trav + (A_L·N_L + A_R·N_R)/A` at the bin boundaries of all three axes and splits at
+//! the cheapest; it stops at a leaf when that is not cheaper than intersecting all of them (`N`) and
+//! there are at most [`MAX_LEAF`] triangles. Subtrees above [`PARALLEL_THRESHOLD`] triangles are built in
+//! parallel with `rayon::join` on disjoint halves of the primitive array; the split decisions depend on
+//! the data only, so the tree is **the same whatever the number of threads**. Below depth
+//! [`SAH_DEPTH_LIMIT`] a node falls back to an object-median split, which bounds the depth (and the
+//! traversal stack) on pathological input.
+//!
+//! ## Layout
+//! One flat `Vec` of 32-byte nodes; the two children of an interior node are adjacent (`c`, `c+1`), so
+//! a traversal step reads both child boxes together. Triangles are copied into leaf order
+//! (`[Vec3; 3]` each) with a parallel array of original triangle ids.
+//!
+//! ## Queries
+//! A ray is `origin + t·dir` for `t ∈ [max(t_min, 0), t_max]`; `dir` need not be unit (t is then in
+//! units of `|dir|`). Triangles are two-sided. The triangle test is the watertight one of Woop, Benthin
+//! & Wald 2013 ("Watertight ray/triangle intersection", JCGT 2(1)): a ray through a shared edge or
+//! vertex of a closed mesh hits at least one of the triangles that share it, never slips between.
+//! Box tests enlarge the far distance by `1 + 2γ₃` (pbrt-v4 §6.8.2) so a box never rejects a ray that
+//! its triangle test would accept.
+//!
+//! **Ties.** The closest hit is the smallest `t`; among hits at exactly the same `t` (a ray through a
+//! shared edge), the one with the smallest original triangle id. So the answer does not depend on the
+//! traversal order and equals a brute-force loop using [`intersect_triangle`] with the same rule.
+
+use glam::{Mat4, Vec3, Vec3A};
+use rayon::prelude::*;
+
+use crate::{Mesh, RasterError, mesh::MAX_ELEMENTS};
+
+/// Number of centroid bins per axis for the SAH (16 is the usual knee of quality vs. build time).
+pub const BINS: usize = 16;
+/// Largest leaf the SAH may choose; larger nodes are always split.
+pub const MAX_LEAF: usize = 8;
+/// Subtrees with more triangles than this are built in parallel.
+pub const PARALLEL_THRESHOLD: usize = 8192;
+/// Depth below which nodes are split at the object median instead of by SAH (bounds the tree depth).
+pub const SAH_DEPTH_LIMIT: usize = 48;
+/// Cost of one traversal step relative to one triangle test, in the SAH.
+const TRAVERSAL_COST: f32 = 1.0;
+/// Traversal stack size: depth ≤ SAH_DEPTH_LIMIT + log2(MAX_ELEMENTS) + 1 < 128.
+const STACK: usize = 128;
+/// `1 + 2γ₃` with `γₙ = nε/(1 − nε)`, ε = 2⁻²⁴ (pbrt-v4 §6.8.2): conservative slab far distance.
+const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+const _: () = assert!(FAR_SCALE > 1.0 && FAR_SCALE < 1.0 + 1e-6);
+
+/// A ray segment `origin + t·dir`, `t ∈ [max(t_min, 0), t_max]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    /// Start point (world space).
+    pub origin: Vec3,
+    /// Direction; need not be unit (then `t` is in units of its length). Must not be zero.
+    pub dir: Vec3,
+    /// Smallest accepted `t` (negative values act as 0).
+    pub t_min: f32,
+    /// Largest accepted `t` (may be `f32::INFINITY`).
+    pub t_max: f32,
+}
+
+impl Ray {
+    /// A ray over `[0, ∞)`.
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Self { origin, dir, t_min: 0.0, t_max: f32::INFINITY }
+    }
+
+    /// A ray over `[t_min, t_max]`.
+    pub fn segment(origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Self {
+        Self { origin, dir, t_min, t_max }
+    }
+}
+
+/// A ray–triangle hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit point (`origin + t·dir`).
+    pub t: f32,
+    /// Index of the triangle in the input the BVH was built from.
+    pub triangle: u32,
+    /// Barycentric weight of the triangle's second vertex.
+    pub u: f32,
+    /// Barycentric weight of the third vertex; the first has `1 − u − v`.
+    pub v: f32,
+}
+
+/// Per-ray constants of the watertight test and the slab test.
+#[derive(Clone, Copy)]
+struct Prepared {
+    o: Vec3A,
+    inv: Vec3A,
+    /// Axis permutation: `kz` is the largest |dir| component; `kx`, `ky` keep the winding.
+    k: [usize; 3],
+    /// Shear constants `Sx = d_kx/d_kz`, `Sy = d_ky/d_kz`, `Sz = 1/d_kz`.
+    s: [f32; 3],
+    t_min: f32,
+}
+
+impl Prepared {
+    fn new(ray: &Ray) -> Self {
+        let d = ray.dir;
+        // 1/0 and 1/subnormal become ±f32::MAX instead of ±∞, so `(plane − o)·inv` can never be 0·∞ = NaN
+        // (a ray lying in a box face plane keeps that axis unconstrained, as it should be).
+        let inv_of = |x: f32| {
+            let r = 1.0 / x;
+            if r.is_finite() { r } else { f32::MAX.copysign(x) }
+        };
+        let inv = Vec3A::new(inv_of(d.x), inv_of(d.y), inv_of(d.z));
+        let a = d.abs();
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        let da = d.to_array();
+        if da[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let s = [da[kx] / da[kz], da[ky] / da[kz], 1.0 / da[kz]];
+        Self { o: Vec3A::from(ray.origin), inv, k: [kx, ky, kz], s, t_min: ray.t_min.max(0.0) }
+    }
+
+    /// Entry distance into the box if the segment `[t_min, t_max]` meets it, else `f32::INFINITY`.
+    #[inline(always)]
+    fn slab(&self, n: &Node, t_max: f32) -> f32 {
+        let t1 = (Vec3A::from(n.min) - self.o) * self.inv;
+        let t2 = (Vec3A::from(n.max) - self.o) * self.inv;
+        let near = t1.min(t2).max_element().max(self.t_min);
+        let far = (t1.max(t2).min_element() * FAR_SCALE).min(t_max);
+        if near <= far { near } else { f32::INFINITY }
+    }
+
+    /// The watertight test (Woop, Benthin & Wald 2013) for `t ∈ [t_min, t_max]`:
+    /// returns `(t, u, v)` with `u`, `v` the weights of `p1`, `p2`.
+    #[inline(always)]
+    fn triangle(&self, tri: &[Vec3; 3], t_max: f32) -> Option<(f32, f32, f32)> {
+        let [kx, ky, kz] = self.k;
+        let [sx, sy, sz] = self.s;
+        let a = (Vec3A::from(tri[0]) - self.o).to_array();
+        let b = (Vec3A::from(tri[1]) - self.o).to_array();
+        let c = (Vec3A::from(tri[2]) - self.o).to_array();
+        // Shear and scale the vertices into the ray's frame (ray along +z through the origin).
+        let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
+        let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
+        let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
+        // Scaled barycentrics = 2D edge functions.
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        // Exactly on an edge in f32: decide in f64, where these products are exact (the paper's fallback).
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
+            u = (cx * by - cy * bx) as f32;
+            v = (ax * cy - ay * cx) as f32;
+            w = (bx * ay - by * ax) as f32;
+        }
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        let (az, bz, cz) = (sz * a[kz], sz * b[kz], sz * c[kz]);
+        let t_scaled = u * az + v * bz + w * cz;
+        let inv_det = 1.0 / det;
+        let t = t_scaled * inv_det;
+        if !(t >= self.t_min && t <= t_max) {
+            return None;
+        }
+        Some((t, v * inv_det, w * inv_det))
+    }
+}
+
+/// Intersect one ray with one triangle by the watertight test the BVH uses: `(t, u, v)` with `u`, `v`
+/// the barycentric weights of `tri[1]`, `tri[2]`, for `t ∈ [max(t_min,0), t_max]`; two-sided.
+///
+/// This is the brute-force reference for the BVH queries (same arithmetic, so results agree exactly).
+pub fn intersect_triangle(ray: &Ray, tri: &[Vec3; 3]) -> Option<(f32, f32, f32)> {
+    Prepared::new(ray).triangle(tri, ray.t_max)
+}
+
+/// Whether the BVH skips this triangle: zero area (`|e1 × e2| = 0` in f32) — it has no interior to hit.
+pub fn is_degenerate(tri: &[Vec3; 3]) -> bool {
+    (tri[1] - tri[0]).cross(tri[2] - tri[0]).length_squared() == 0.0
+}
+
+/// A node: its box, then either (leaf, `count > 0`) the first triangle in leaf order and the count, or
+/// (interior, `count == 0`) the index of the first of its two adjacent children.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(32))]
+struct Node {
+    min: Vec3,
+    first: u32,
+    max: Vec3,
+    count: u32,
+}
+
+/// A primitive during the build: its box and its index in the input.
+#[derive(Clone, Copy)]
+struct PrimRef {
+    min: Vec3A,
+    max: Vec3A,
+    idx: u32,
+}
+
+impl PrimRef {
+    #[inline]
+    fn centroid2(&self) -> Vec3A {
+        self.min + self.max
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Aabb {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl Aabb {
+    const EMPTY: Self = Self { min: Vec3A::splat(f32::INFINITY), max: Vec3A::splat(f32::NEG_INFINITY) };
+    #[inline]
+    fn grow(&mut self, min: Vec3A, max: Vec3A) {
+        self.min = self.min.min(min);
+        self.max = self.max.max(max);
+    }
+    #[inline]
+    fn merge(self, o: Self) -> Self {
+        Self { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+    /// Half the surface area (the SAH only needs ratios).
+    #[inline]
+    fn half_area(&self) -> f32 {
+        let e = (self.max - self.min).max(Vec3A::ZERO);
+        e.x * e.y + e.y * e.z + e.z * e.x
+    }
+}
+
+/// A subtree under construction: split nodes near the root (built in parallel) over flat chunks.
+enum Sub {
+    Split {
+        bounds: Aabb,
+        left: Box<Sub>,
+        right: Box<Sub>,
+    },
+    /// Local node array: index 0 is the subtree root; children indices are local; leaf `first` global.
+    Flat(Vec<Node>),
+}
+
+/// A BVH over triangles, with exact closest-hit and any-hit queries (see the module docs).
+#[derive(Debug, Clone)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    /// Triangles in leaf order.
+    tris: Vec<[Vec3; 3]>,
+    /// Original triangle id of each entry of `tris`.
+    ids: Vec<u32>,
+    input_triangles: usize,
+}
+
+impl Bvh {
+    /// Build over an indexed triangle list (world space).
+    ///
+    /// Errors: an index out of range, a non-finite vertex used by a face, more than
+    /// [`MAX_ELEMENTS`] triangles, or memory that cannot be reserved. Degenerate (zero-area) triangles
+    /// are skipped: they are never hit, and [`Bvh::skipped_triangles`] counts them. Triangle ids in hits
+    /// are indices into `indices`.
+    pub fn build(positions: &[Vec3], indices: &[[u32; 3]]) -> Result<Self, RasterError> {
+        let nv = positions.len();
+        if let Some((f, &i)) = indices
+            .iter()
+            .enumerate()
+            .find_map(|(f, t)| t.iter().find(|&&i| i as usize >= nv).map(|i| (f, i)))
+        {
+            return Err(RasterError::InvalidMesh(format!(
+                "face {f} indexes vertex {i}, but there are only {nv} vertices"
+            )));
+        }
+        Self::build_with(indices.len(), |f| indices[f].map(|i| positions[i as usize]))
+    }
+
+    /// Build over a triangle soup (world space); triangle ids are indices into `triangles`.
+    /// Same errors and skipping as [`Bvh::build`].
+    pub fn from_triangles(triangles: &[[Vec3; 3]]) -> Result<Self, RasterError> {
+        Self::build_with(triangles.len(), |f| triangles[f])
+    }
+
+    /// Build over one mesh (its positions as they are).
+    pub fn from_mesh(mesh: &Mesh) -> Result<Self, RasterError> {
+        Self::build(&mesh.positions, &mesh.indices)
+    }
+
+    /// Build over several meshes, each placed by its model-to-world matrix. Triangle ids run through
+    /// the meshes in order: mesh `k`'s triangle `f` has id `f + Σ_{j<k} triangles(j)`.
+    pub fn from_instances(instances: &[(&Mesh, Mat4)]) -> Result<Self, RasterError> {
+        let total: usize = instances.iter().map(|(m, _)| m.indices.len()).sum();
+        let mut starts = Vec::with_capacity(instances.len());
+        let mut acc = 0usize;
+        for (m, _) in instances {
+            starts.push(acc);
+            acc += m.indices.len();
+        }
+        let find = |f: usize| {
+            let k = starts.partition_point(|&s| s <= f) - 1;
+            (k, f - starts[k])
+        };
+        Self::build_with(total, |f| {
+            let (k, local) = find(f);
+            let (m, xf) = &instances[k];
+            m.triangle(local).map(|p| xf.transform_point3(p))
+        })
+    }
+
+    fn build_with(n: usize, tri: impl Fn(usize) -> [Vec3; 3] + Sync) -> Result<Self, RasterError> {
+        if n > MAX_ELEMENTS {
+            return Err(RasterError::InvalidMesh(format!(
+                "{n} triangles exceed the BVH limit of {MAX_ELEMENTS}"
+            )));
+        }
+        // Refuse up front what cannot be allocated, with the size in the message (about 100 bytes
+        // per triangle at the peak: refs, leaf-ordered vertices, ids and nodes).
+        let too_big = |what: &str| {
+            RasterError::InvalidMesh(format!(
+                "cannot allocate the BVH {what} for {n} triangles (about {:.1} GiB in all)",
+                (n as f64 * 100.0) / (1u64 << 30) as f64
+            ))
+        };
+        if let Some(f) = (0..n).into_par_iter().find_first(|&f| !tri(f).iter().all(|p| p.is_finite())) {
+            return Err(RasterError::InvalidMesh(format!("triangle {f} has a non-finite vertex")));
+        }
+        let mut refs: Vec<PrimRef> = Vec::new();
+        refs.try_reserve_exact(n).map_err(|_| too_big("primitive list"))?;
+        refs.par_extend((0..n).into_par_iter().filter_map(|f| {
+            let t = tri(f);
+            if is_degenerate(&t) {
+                return None;
+            }
+            let (a, b, c) = (Vec3A::from(t[0]), Vec3A::from(t[1]), Vec3A::from(t[2]));
+            Some(PrimRef { min: a.min(b).min(c), max: a.max(b).max(c), idx: f as u32 })
+        }));
+        let mut nodes: Vec<Node> = Vec::new();
+        nodes.try_reserve_exact(2 * refs.len().max(1)).map_err(|_| too_big("node array"))?;
+        if refs.is_empty() {
+            // Nothing to hit: one empty leaf with an inverted box that every slab test rejects.
+            nodes.push(Node {
+                min: Vec3::splat(f32::INFINITY),
+                max: Vec3::splat(f32::NEG_INFINITY),
+                first: 0,
+                count: 0,
+            });
+            return Ok(Self { nodes, tris: Vec::new(), ids: Vec::new(), input_triangles: n });
+        }
+        let sub = build_sub(&mut refs, 0, 0);
+        place(sub, 0, &mut nodes, true);
+        let mut tris: Vec<[Vec3; 3]> = Vec::new();
+        tris.try_reserve_exact(refs.len()).map_err(|_| too_big("triangle array"))?;
+        tris.par_extend(refs.par_iter().map(|r| tri(r.idx as usize)));
+        let ids = refs.iter().map(|r| r.idx).collect();
+        Ok(Self { nodes, tris, ids, input_triangles: n })
+    }
+
+    /// Number of triangles in the input (including skipped ones).
+    pub fn input_triangles(&self) -> usize {
+        self.input_triangles
+    }
+
+    /// Number of triangles in the tree (the input minus degenerate ones).
+    pub fn triangle_count(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Number of degenerate (zero-area) input triangles that were skipped.
+    pub fn skipped_triangles(&self) -> usize {
+        self.input_triangles - self.tris.len()
+    }
+
+    /// Number of nodes in the flat array.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The scene box `(min, max)` of all non-degenerate triangles (inverted when there are none).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        (self.nodes[0].min, self.nodes[0].max)
+    }
+
+    /// The largest coordinate magnitude in the scene box (0 for an empty tree), the scale that
+    /// self-intersection offsets must exceed.
+    pub fn coordinate_scale(&self) -> f32 {
+        if self.tris.is_empty() {
+            return 0.0;
+        }
+        let (lo, hi) = self.bounds();
+        lo.abs().max(hi.abs()).max_element()
+    }
+
+    /// The closest hit on the segment, or `None` (ties: see the module docs).
+    pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
+        let pre = Prepared::new(ray);
+        let mut best_t = ray.t_max;
+        let mut best: Option<Hit> = None;
+        if self.tris.is_empty() || pre.slab(&self.nodes[0], best_t) == f32::INFINITY {
+            return None;
+        }
+        let mut stack = [(0u32, 0f32); STACK];
+        let mut sp = 0usize;
+        let mut node = &self.nodes[0];
+        loop {
+            if node.count > 0 {
+                let first = node.first as usize;
+                for i in first..first + node.count as usize {
+                    if let Some((t, u, v)) = pre.triangle(&self.tris[i], best_t) {
+                        let id = self.ids[i];
+                        // Smallest t; equal t → smallest id (independent of traversal order).
+                        if best.is_none_or(|b| t < b.t || (t == b.t && id < b.triangle)) {
+                            best_t = t;
+                            best = Some(Hit { t, triangle: id, u, v });
+                        }
+                    }
+                }
+            } else {
+                let c = node.first as usize;
+                let (l, r) = (&self.nodes[c], &self.nodes[c + 1]);
+                let (dl, dr) = (pre.slab(l, best_t), pre.slab(r, best_t));
+                // Visit the nearer child first; keep the farther one with its entry distance.
+                let (near, far, dn, df) = if dl <= dr { (c, c + 1, dl, dr) } else { (c + 1, c, dr, dl) };
+                if dn != f32::INFINITY {
+                    if df != f32::INFINITY {
+                        stack[sp] = (far as u32, df);
+                        sp += 1;
+                    }
+                    node = &self.nodes[near];
+                    continue;
+                }
+            }
+            // Pop the next node still nearer than the best hit.
+            loop {
+                if sp == 0 {
+                    return best;
+                }
+                sp -= 1;
+                let (i, d) = stack[sp];
+                if d <= best_t {
+                    node = &self.nodes[i as usize];
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Whether anything is hit on the segment (shadow and visibility rays); stops at the first hit.
+    pub fn any_hit(&self, ray: &Ray) -> bool {
+        let pre = Prepared::new(ray);
+        let t_max = ray.t_max;
+        if self.tris.is_empty() || pre.slab(&self.nodes[0], t_max) == f32::INFINITY {
+            return false;
+        }
+        let mut stack = [0u32; STACK];
+        let mut sp = 0usize;
+        let mut node = &self.nodes[0];
+        loop {
+            if node.count > 0 {
+                let first = node.first as usize;
+                let tris = &self.tris[first..first + node.count as usize];
+                if tris.iter().any(|t| pre.triangle(t, t_max).is_some()) {
+                    return true;
+                }
+            } else {
+                let c = node.first as usize;
+                let (l, r) = (&self.nodes[c], &self.nodes[c + 1]);
+                let (hl, hr) = (pre.slab(l, t_max) != f32::INFINITY, pre.slab(r, t_max) != f32::INFINITY);
+                match (hl, hr) {
+                    (true, true) => {
+                        stack[sp] = (c + 1) as u32;
+                        sp += 1;
+                        node = l;
+                        continue;
+                    }
+                    (true, false) => {
+                        node = l;
+                        continue;
+                    }
+                    (false, true) => {
+                        node = r;
+                        continue;
+                    }
+                    (false, false) => {}
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            node = &self.nodes[stack[sp] as usize];
+        }
+    }
+
+    /// [`Bvh::closest_hit`] for every ray, in parallel; `out[i]` answers `rays[i]` (same result at any
+    /// thread count: each ray is independent).
+    pub fn closest_hits(&self, rays: &[Ray]) -> Vec<Option<Hit>> {
+        rays.par_iter().with_min_len(256).map(|r| self.closest_hit(r)).collect()
+    }
+
+    /// [`Bvh::any_hit`] for every ray, in parallel.
+    pub fn any_hits(&self, rays: &[Ray]) -> Vec<bool> {
+        rays.par_iter().with_min_len(256).map(|r| self.any_hit(r)).collect()
+    }
+}
+
+fn bounds_of(refs: &[PrimRef]) -> (Aabb, Aabb) {
+    let mut b = Aabb::EMPTY;
+    let mut cb = Aabb::EMPTY;
+    for r in refs {
+        b.grow(r.min, r.max);
+        let c = r.centroid2();
+        cb.grow(c, c);
+    }
+    (b, cb)
+}
+
+/// Build the subtree over `refs` (global offset `base`), in parallel above the threshold.
+fn build_sub(refs: &mut [PrimRef], base: usize, depth: usize) -> Sub {
+    if refs.len() <= PARALLEL_THRESHOLD {
+        let mut nodes = Vec::with_capacity(2 * refs.len());
+        nodes.push(Node::default());
+        build_seq(refs, base, depth, 0, &mut nodes);
+        return Sub::Flat(nodes);
+    }
+    let (bounds, cbounds) = bounds_of(refs);
+    let mid = choose_split(refs, &bounds, &cbounds, depth).expect("large nodes are always split");
+    let (l, r) = refs.split_at_mut(mid);
+    let (left, right) = rayon::join(|| build_sub(l, base, depth + 1), || build_sub(r, base + mid, depth + 1));
+    Sub::Split { bounds, left: Box::new(left), right: Box::new(right) }
+}
+
+/// Sequential build into `nodes`, writing the subtree root at `at`.
+fn build_seq(refs: &mut [PrimRef], base: usize, depth: usize, at: usize, nodes: &mut Vec<Node>) {
+    let (bounds, cbounds) = bounds_of(refs);
+    match choose_split(refs, &bounds, &cbounds, depth) {
+        None => {
+            nodes[at] = Node {
+                min: bounds.min.into(),
+                max: bounds.max.into(),
+                first: base as u32,
+                count: refs.len() as u32,
+            };
+        }
+        Some(mid) => {
+            let c = nodes.len();
+            nodes.push(Node::default());
+            nodes.push(Node::default());
+            nodes[at] = Node { min: bounds.min.into(), max: bounds.max.into(), first: c as u32, count: 0 };
+            let (l, r) = refs.split_at_mut(mid);
+            build_seq(l, base, depth + 1, c, nodes);
+            build_seq(r, base + mid, depth + 1, c + 1, nodes);
+        }
+    }
+}
+
+/// Decide how to split `refs` and partition them in place; `None` means "make a leaf".
+fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usize) -> Option<usize> {
+    let n = refs.len();
+    if n <= 1 {
+        return None;
+    }
+    let extent = cbounds.max - cbounds.min;
+    let axis_of_max = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    // All centroids coincide, or the tree got too deep for SAH: object median along the widest axis.
+    let median = |refs: &mut [PrimRef]| {
+        let mid = n / 2;
+        refs.select_nth_unstable_by(mid, |a, b| {
+            let (ca, cb) = (a.centroid2()[axis_of_max], b.centroid2()[axis_of_max]);
+            ca.total_cmp(&cb).then(a.idx.cmp(&b.idx))
+        });
+        mid
+    };
+    if extent.max_element() <= 0.0 {
+        return if n <= MAX_LEAF { None } else { Some(median(refs)) };
+    }
+    if depth >= SAH_DEPTH_LIMIT {
+        return if n <= MAX_LEAF { None } else { Some(median(refs)) };
+    }
+
+    // Bin centroids along all three axes in one pass.
+    let scale = Vec3A::select(
+        extent.cmpgt(Vec3A::ZERO),
+        Vec3A::splat(BINS as f32 * (1.0 - 1e-6)) / extent,
+        Vec3A::ZERO,
+    );
+    let bin_of = |c: Vec3A| -> [usize; 3] {
+        let b = ((c - cbounds.min) * scale).min(Vec3A::splat((BINS - 1) as f32));
+        [b.x as usize, b.y as usize, b.z as usize]
+    };
+    let mut boxes = [[Aabb::EMPTY; BINS]; 3];
+    let mut counts = [[0u32; BINS]; 3];
+    for r in refs.iter() {
+        let b = bin_of(r.centroid2());
+        for a in 0..3 {
+            boxes[a][b[a]].grow(r.min, r.max);
+            counts[a][b[a]] += 1;
+        }
+    }
+    // Sweep: cost of splitting after bin i (left = bins 0..=i).
+    let mut best = (f32::INFINITY, 0usize, 0usize);
+    for a in 0..3 {
+        if extent[a] <= 0.0 {
+            continue;
+        }
+        let mut right_cost = [0f32; BINS];
+        let mut acc = Aabb::EMPTY;
+        let mut cnt = 0u32;
+        for i in (1..BINS).rev() {
+            acc = acc.merge(boxes[a][i]);
+            cnt += counts[a][i];
+            right_cost[i] = if cnt > 0 { acc.half_area() * cnt as f32 } else { f32::INFINITY };
+        }
+        let mut acc = Aabb::EMPTY;
+        let mut cnt = 0u32;
+        for i in 0..BINS - 1 {
+            acc = acc.merge(boxes[a][i]);
+            cnt += counts[a][i];
+            if cnt == 0 || cnt as usize == n {
+                continue;
+            }
+            let cost = acc.half_area() * cnt as f32 + right_cost[i + 1];
+            if cost < best.0 {
+                best = (cost, a, i);
+            }
+        }
+    }
+    let area = bounds.half_area();
+    let split_cost = TRAVERSAL_COST + if area > 0.0 { best.0 / area } else { 0.0 };
+    if best.0 == f32::INFINITY {
+        // Every centroid fell in one bin on every axis (extremely clustered): median split.
+        return if n <= MAX_LEAF { None } else { Some(median(refs)) };
+    }
+    if n <= MAX_LEAF && split_cost >= n as f32 {
+        return None;
+    }
+    // Partition in place by the chosen bin boundary (same binning arithmetic as above).
+    let (axis, split_bin) = (best.1, best.2);
+    let mut i = 0usize;
+    let mut j = n;
+    while i < j {
+        if bin_of(refs[i].centroid2())[axis] <= split_bin {
+            i += 1;
+        } else {
+            j -= 1;
+            refs.swap(i, j);
+        }
+    }
+    Some(i)
+}
+
+/// Flatten `sub` into `nodes`, its root written at `at` (pushing a fresh root when `root`).
+fn place(sub: Sub, at: usize, nodes: &mut Vec<Node>, root: bool) {
+    if root {
+        // Root at 0 and an unused pad at 1, so that every sibling pair starts at an even index (and
+        // shares a 64-byte cache line when the array is 64-byte aligned).
+        nodes.push(Node::default());
+        nodes.push(Node::default());
+    }
+    match sub {
+        Sub::Split { bounds, left, right } => {
+            let c = nodes.len();
+            nodes.push(Node::default());
+            nodes.push(Node::default());
+            nodes[at] = Node { min: bounds.min.into(), max: bounds.max.into(), first: c as u32, count: 0 };
+            place(*left, c, nodes, false);
+            place(*right, c + 1, nodes, false);
+        }
+        Sub::Flat(local) => {
+            // Local index k ≥ 1 lands at offset + k (local pairs start at 1, global ones at even indices).
+            let offset = nodes.len() - 1;
+            let fix = |mut nd: Node| {
+                if nd.count == 0 {
+                    nd.first += offset as u32;
+                }
+                nd
+            };
+            nodes[at] = fix(local[0]);
+            nodes.extend(local[1..].iter().map(|&nd| fix(nd)));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn single_leaf_tree_is_hit_through_its_interior() {
+        let tri = [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let bvh = Bvh::from_triangles(&[tri]).unwrap();
+        let h = bvh.closest_hit(&Ray::new(Vec3::new(0.0, 0.0, 2.0), -Vec3::Z)).unwrap();
+        assert_eq!(h.triangle, 0);
+        assert!((h.t - 2.0).abs() < 1e-6);
+        // Barycentrics reproduce the hit point.
+        let p = tri[0] * (1.0 - h.u - h.v) + tri[1] * h.u + tri[2] * h.v;
+        assert!(p.distance(Vec3::ZERO) < 1e-6, "{p}");
+    }
+}
