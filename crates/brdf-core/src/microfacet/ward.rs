@@ -38,3 +38,18 @@ pub fn slope_pdf(h: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
     let e = ((h.x / ax).powi(2) + (h.y / ay).powi(2)) / (h.z * h.z);
     (-e).exp() * std::f32::consts::FRAC_1_PI / (ax * ay)
 }
+
+/// Ward 1992's "computationally convenient" form of the same Gaussian (his eq. 5b):
+/// `exp(−2 (hx²/αx² + hy²/αy²)/(1 + hz)) / (π αx αy)` for a unit local half vector. It is *not*
+/// identical to [`slope_pdf`]: `2(1 − cos δ)` stands in for `tan²δ` (equal to second order in the
+/// half-angle δ), so the two agree near the peak and part for wide lobes; the `ward` model offers it
+/// as `normalization = "ward"`. 0 for `hz ≤ 0`.
+#[inline]
+pub fn slope_pdf_ward1992(h: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
+    if !(h.z > 0.0) {
+        return 0.0;
+    }
+    let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
+    let e = 2.0 * ((h.x / ax).powi(2) + (h.y / ay).powi(2)) / (1.0 + h.z);
+    (-e).exp() * std::f32::consts::FRAC_1_PI / (ax * ay)
+}

@@ -14,19 +14,29 @@ use glam::Vec3;
 use crate::params::{Input, ModelSpec, Params};
 use crate::{BrdfError, Geometry};
 
+pub mod ashikhmin_shirley;
 pub mod blinn_phong;
 pub mod classic;
+pub mod cook_torrance;
+pub mod lafortune;
 pub mod lambert;
 pub mod oren_nayar;
 pub mod phong;
+pub mod strauss;
 pub mod toon;
+pub mod ward;
 
+pub use ashikhmin_shirley::AshikhminShirley;
 pub use blinn_phong::BlinnPhong;
 pub use classic::{BlinnPhongClassic, LambertClassic, PhongClassic};
+pub use cook_torrance::CookTorrance;
+pub use lafortune::Lafortune;
 pub use lambert::Lambert;
 pub use oren_nayar::{OrenNayar, OrenNayarFull};
 pub use phong::Phong;
+pub use strauss::Strauss;
 pub use toon::Toon;
+pub use ward::Ward;
 
 /// Physical BRDF or course formula (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -177,6 +187,11 @@ define_models! {
     BlinnPhongClassic(BlinnPhongClassic),
     Phong(Phong),
     BlinnPhong(BlinnPhong),
+    CookTorrance(CookTorrance),
+    Strauss(Strauss),
+    Ward(Ward),
+    AshikhminShirley(AshikhminShirley),
+    Lafortune(Lafortune),
 }
 
 /// Look up a model's spec by registry name.

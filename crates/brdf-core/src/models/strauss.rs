@@ -1,0 +1,226 @@
+//! Strauss's lighting model for animators (P. S. Strauss, "A Realistic Lighting Model for Computer
+//! Animators", IEEE CG&A 10(6), 1990; seed 004 "The Strauss Illumination Model" and its fragment
+//! program "Shader Source Code - Strauss").
+//!
+//! Per colour channel, for a light of unit colour (`c_r = c_i (Q_d + Q_s + Q_a)`):
+//!
+//! ```text
+//! x_i = θ_i/(π/2), x_r = θ_r/(π/2)                      normalised angles of l and v to n
+//! r_d = (1 − s³)(1 − t),  d = 1 − m s,  r_n = (1 − t) − r_d
+//! Q_d = (n·l) d r_d C                                   diffuse
+//! j   = F(x_i) G(x_i) G(x_r),   r_j = min(1, r_n + (r_n + k_j) j)
+//! Q_s = max(r·v, 0)^{3/(1−s)} r_j C_s,  C_s = 1 + m (1 − F(x_i)) (C − 1)   specular
+//! Q_a = r_d C                                           ambient ([`Strauss::ambient`])
+//! F(x) = [1/(x−k_f)² − 1/k_f²] / [1/(1−k_f)² − 1/k_f²]
+//! G(x) = [1/(1−k_s)² − 1/(x−k_s)²] / [1/(1−k_s)² − 1/k_s²]
+//! ```
+//! with Strauss's constants `k_f = 1.12`, `k_s = 1.01`, `k_j = 0.1` (the registry's `ks` is Strauss's
+//! name for the shadow constant; seed 004 calls it `k_g`).
+//!
+//! Slips in seed 004's fragment program, fixed against Strauss 1990 and the seed's own text:
+//! - `f = F((θ_i + θ_r)/2)`: Strauss and the seed's text use `F(θ_i)` (incidence angle) in both `j` and
+//!   `C_s`. Default `fresnel_angle = "incidence"`; `"mean"` reproduces the shader (which makes the
+//!   highlight factor symmetric in l and v; the model is still not reciprocal).
+//! - `pow(-dot(H, V), …)` with `V` pointing *to* the eye: the sign is Strauss's convention of both
+//!   vectors pointing *toward* the surface; in ours the specular base is `r·v` with
+//!   `r = 2(n·l)n − l`, clamped at 0 (a negative base to a real power is NaN in GLSL).
+//! - `3/(1.0001 − s)`: a guard against s = 1. We use Strauss's `3/(1 − s)` with s capped at 0.9999
+//!   (exponent ≤ 30000) so the exponent is exact for every s < 0.9999.
+//! - `Q_a` is used but never computed, and `pi` is mistyped 3.1415936 (unused). `Q_a` is exposed as
+//!   [`Strauss::ambient`] for the illumination model; the opacity `1 − t` as [`Strauss::opacity`].
+//! - The shader clamps `Q_d`, `Q_s` to [0, 1]; for parameters in their ranges both already are
+//!   (r_j ≤ 1, C_s ∈ [C, 1]), so no clamp is applied.
+//!
+//! **Kind:** physical-ish. Its parameters are normalised and its output bounded, but it is an
+//! empirical *shading formula* (Q_s carries no `n·l`, F uses the incidence angle only), not a
+//! reciprocal BRDF, so it is registered as a classic model: `shade` is the formula above and `f`
+//! is `shade/(n·l)`. Light or viewer at or below the horizon gives 0.
+
+use std::f32::consts::FRAC_2_PI;
+
+use glam::Vec3;
+
+use crate::models::{Bxdf, ModelKind, classic_f};
+use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::{BrdfError, Geometry};
+
+/// Largest smoothness used in the exponent `3/(1 − s)` (see the module docs).
+pub const SMOOTHNESS_MAX: f32 = 0.9999;
+
+/// Which angle Strauss's Fresnel-like factor reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StraussFresnelAngle {
+    /// `F(x_i)`, Strauss 1990 and seed 004's text.
+    Incidence,
+    /// `F((x_i + x_r)/2)`, seed 004's fragment program.
+    Mean,
+}
+
+/// Strauss's model (see the module docs for the formula and the fixes to seed 004's shader).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Strauss {
+    /// Surface colour C (linear RGB).
+    pub color: Vec3,
+    /// Smoothness s ∈ [0, 1].
+    pub smoothness: f32,
+    /// Metalness m ∈ [0, 1].
+    pub metalness: f32,
+    /// Transparency t ∈ [0, 1].
+    pub transparency: f32,
+    /// Fresnel constant k_f (> 1).
+    pub kf: f32,
+    /// Shadow constant k_s (> 1; seed 004's k_g).
+    pub ks: f32,
+    /// Reflectivity offset k_j.
+    pub kj: f32,
+    /// Angle F reads.
+    pub fresnel_angle: StraussFresnelAngle,
+    rd: f32,
+    rn: f32,
+    d: f32,
+    exponent: f32,
+    f_den: f32,
+    g_den: f32,
+}
+
+impl Strauss {
+    /// Strauss's model with Strauss's constants `k_f = 1.12`, `k_s = 1.01`, `k_j = 0.1`.
+    pub fn new(color: Vec3, smoothness: f32, metalness: f32, transparency: f32) -> Self {
+        Self::with_constants(
+            color,
+            smoothness,
+            metalness,
+            transparency,
+            1.12,
+            1.01,
+            0.1,
+            StraussFresnelAngle::Incidence,
+        )
+    }
+
+    /// Full constructor. `kf`, `ks` must exceed 1 (their poles must lie outside x ∈ [0, 1]); they are
+    /// raised to 1.0001 if not.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_constants(
+        color: Vec3,
+        smoothness: f32,
+        metalness: f32,
+        transparency: f32,
+        kf: f32,
+        ks: f32,
+        kj: f32,
+        fresnel_angle: StraussFresnelAngle,
+    ) -> Self {
+        let s = smoothness.clamp(0.0, 1.0);
+        let t = transparency.clamp(0.0, 1.0);
+        let m = metalness.clamp(0.0, 1.0);
+        let kf = kf.max(1.0001);
+        let ks = ks.max(1.0001);
+        let rd = (1.0 - s * s * s) * (1.0 - t);
+        Self {
+            color,
+            smoothness: s,
+            metalness: m,
+            transparency: t,
+            kf,
+            ks,
+            kj,
+            fresnel_angle,
+            rd,
+            rn: (1.0 - t) - rd,
+            d: 1.0 - m * s,
+            exponent: 3.0 / (1.0 - s.min(SMOOTHNESS_MAX)),
+            f_den: 1.0 / ((1.0 - kf) * (1.0 - kf)) - 1.0 / (kf * kf),
+            g_den: 1.0 / ((1.0 - ks) * (1.0 - ks)) - 1.0 / (ks * ks),
+        }
+    }
+
+    /// Strauss's Fresnel-like factor `F(x)`, x = normalised angle ∈ [0, 1]: 0 at x = 0, 1 at x = 1.
+    #[inline]
+    pub fn fresnel(&self, x: f32) -> f32 {
+        (1.0 / ((x - self.kf) * (x - self.kf)) - 1.0 / (self.kf * self.kf)) / self.f_den
+    }
+
+    /// Strauss's shadow factor `G(x)`: 1 at x = 0, 0 at x = 1.
+    #[inline]
+    pub fn shadow(&self, x: f32) -> f32 {
+        (1.0 / ((1.0 - self.ks) * (1.0 - self.ks)) - 1.0 / ((x - self.ks) * (x - self.ks))) / self.g_den
+    }
+
+    /// Ambient reflectance `Q_a = r_d C` (multiply by the ambient light colour).
+    pub fn ambient(&self) -> Vec3 {
+        self.rd * self.color
+    }
+
+    /// Opacity `1 − t` (seed 004's shader writes it to alpha).
+    pub fn opacity(&self) -> f32 {
+        1.0 - self.transparency
+    }
+}
+
+impl Bxdf for Strauss {
+    const SPEC: ModelSpec = ModelSpec {
+        name: "strauss",
+        summary: "Strauss 1990: Qd = (n.l) d rd C, Qs = max(r.v,0)^(3/(1-s)) rj Cs; normalised smoothness/metalness/transparency",
+        source: "seed 004 (text and fragment program, slips fixed); P. S. Strauss, IEEE CG&A 1990",
+        physical: false,
+        anisotropic: false,
+        params: &[
+            ParamSpec::color("color", [0.8, 0.3, 0.2], 0.0, 1.0, "reflectance", "surface colour C"),
+            ParamSpec::scalar("smoothness", 0.5, 0.0, 1.0, "1", "s: 0 dull .. 1 mirror"),
+            ParamSpec::scalar("metalness", 0.0, 0.0, 1.0, "1", "m: 0 dielectric .. 1 metal"),
+            ParamSpec::scalar("transparency", 0.0, 0.0, 1.0, "1", "t: 0 opaque .. 1 transparent"),
+            ParamSpec::scalar("kf", 1.12, 1.001, 10.0, "1", "Fresnel constant k_f"),
+            ParamSpec::scalar("ks", 1.01, 1.001, 10.0, "1", "shadow constant k_s (seed 004's k_g)"),
+            ParamSpec::scalar("kj", 0.1, 0.0, 1.0, "1", "reflectivity offset k_j"),
+            ParamSpec::choice(
+                "fresnel_angle",
+                &["incidence", "mean"],
+                "incidence",
+                "F reads theta_i (Strauss 1990) or (theta_i+theta_r)/2 (seed 004's shader)",
+            ),
+        ],
+    };
+    const KIND: ModelKind = ModelKind::Classic;
+
+    fn from_params(p: &Params) -> Result<Self, BrdfError> {
+        let angle = match p.choice("fresnel_angle") {
+            "mean" => StraussFresnelAngle::Mean,
+            _ => StraussFresnelAngle::Incidence,
+        };
+        Ok(Self::with_constants(
+            p.color("color"),
+            p.scalar("smoothness"),
+            p.scalar("metalness"),
+            p.scalar("transparency"),
+            p.scalar("kf"),
+            p.scalar("ks"),
+            p.scalar("kj"),
+            angle,
+        ))
+    }
+
+    #[inline]
+    fn f(&self, g: &Geometry) -> Vec3 {
+        classic_f(self.shade(g), g)
+    }
+
+    fn shade(&self, g: &Geometry) -> Vec3 {
+        if !(g.nl > 0.0 && g.nv > 0.0) {
+            return Vec3::ZERO;
+        }
+        let xi = g.nl.min(1.0).acos() * FRAC_2_PI;
+        let xr = g.nv.min(1.0).acos() * FRAC_2_PI;
+        let f = self.fresnel(match self.fresnel_angle {
+            StraussFresnelAngle::Incidence => xi,
+            StraussFresnelAngle::Mean => 0.5 * (xi + xr),
+        });
+        let j = f * self.shadow(xi) * self.shadow(xr);
+        let rj = (self.rn + (self.rn + self.kj) * j).min(1.0);
+        let rv = g.r().dot(g.v).max(0.0);
+        let rs = if rv > 0.0 { rv.powf(self.exponent) * rj } else { 0.0 };
+        let cs = Vec3::ONE + self.metalness * (1.0 - f) * (self.color - Vec3::ONE);
+        let qd = g.nl * self.d * self.rd * self.color;
+        qd + rs * cs
+    }
+}
