@@ -31,6 +31,7 @@ pub mod masking;
 pub mod microfacet;
 pub mod models;
 pub mod params;
+pub mod properties;
 pub mod tonemap;
 pub mod vector;
 
