@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import sys
+from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable
 
@@ -41,6 +42,13 @@ settings.register_profile(
 )
 settings.register_profile("ci", max_examples=300, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "fast"))
+
+
+@lru_cache(maxsize=16)
+def gauss_legendre01(count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [0, 1] (cached: large node counts cost an eigensolve)."""
+    x, w = np.polynomial.legendre.leggauss(count)
+    return 0.5 * (x + 1), 0.5 * w
 
 
 def unit(a: np.ndarray) -> np.ndarray:

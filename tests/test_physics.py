@@ -11,7 +11,7 @@ import brdfpy
 import numpy as np
 import pytest
 
-from conftest import hemisphere, unit
+from conftest import gauss_legendre01, hemisphere, unit
 
 Z = np.array([0.0, 0.0, 1.0])
 
@@ -83,8 +83,7 @@ def test_checks_detect_a_non_reciprocal_model() -> None:
 def albedo_by_quadrature(model: Any, cos_theta_v: float, n_mu: int = 192, n_phi: int = 384) -> np.ndarray:
     """``int f(l, v) cos(theta_l) dw_l`` over the upper hemisphere by Gauss-Legendre in mu = cos theta_l
     and the midpoint rule in phi (exact for the smooth, periodic azimuth), with n = +z."""
-    x, w = np.polynomial.legendre.leggauss(n_mu)
-    mu, w_mu = 0.5 * (x + 1), 0.5 * w
+    mu, w_mu = gauss_legendre01(n_mu)
     phi = (np.arange(n_phi) + 0.5) * 2 * np.pi / n_phi
     mm, pp = np.meshgrid(mu, phi, indexing="ij")
     s = np.sqrt(1 - mm**2)
@@ -171,8 +170,7 @@ def test_checks_directional_albedo_agrees_with_our_quadrature(case: tuple[str, d
 
 def d_projected_integral(name: str, alpha: float, alpha_y: float | None, n_mu: int = 1024) -> float:
     """``int D(h) (n.h) dw_h`` over the hemisphere (Gauss-Legendre in cos theta_h, midpoint in phi)."""
-    x, w = np.polynomial.legendre.leggauss(n_mu)
-    mu, w_mu = 0.5 * (x + 1), 0.5 * w
+    mu, w_mu = gauss_legendre01(n_mu)
     n_phi = 256 if alpha_y is not None else 4
     phi = (np.arange(n_phi) + 0.5) * 2 * np.pi / n_phi
     mm, pp = np.meshgrid(mu, phi, indexing="ij")
