@@ -4,8 +4,10 @@
 
 pub mod bvh;
 pub mod error;
+pub mod io;
 pub mod mesh;
 pub mod normals;
+pub mod procedural;
 
 pub use error::RasterError;
 pub use mesh::Mesh;

@@ -1,0 +1,174 @@
+//! Wavefront OBJ reading through `tobj`.
+//!
+//! What is read: `v x y z [w | r g b]` positions (and vertex colors), `vn` normals, `f` faces with
+//! `v`, `v/vt`, `v//vn` or `v/vt/vn` corners, 1-based or negative (relative) indices. Polygons are
+//! split into a fan `(v₀, v_k, v_{k+1})`, exact for convex polygons. Faces with 1 or 2 corners
+//! and `l` (line) and `p` (point) elements are ignored, as are groups, objects, smoothing groups
+//! and materials (`mtllib` files are never opened).
+//!
+//! Vertex order: tobj welds each distinct (position, normal) pair into one vertex, numbered in
+//! order of first use by a face, so vertices no face uses are dropped and a position used with
+//! two different normals becomes two vertices. Face order is kept. File normals are used only
+//! when every face corner has one; otherwise the normals are computed.
+//!
+//! Robustness: before tobj sees the text, every line is checked here (UTF-8, the face index
+//! ranges, zero indices, relative indices reaching before the first vertex), which both gives
+//! messages with line numbers and keeps tobj away from inputs on which its index arithmetic
+//! could overflow.
+
+use glam::Vec3;
+
+use super::Loaded;
+use crate::mesh::MAX_ELEMENTS;
+
+/// Parse a whole OBJ file held in memory.
+pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not a text (UTF-8) file: invalid byte at offset {} — is it really an OBJ file?",
+            e.valid_up_to()
+        )
+    })?;
+    let (filtered, skipped) = filter_and_check(text)?;
+
+    // `..Default::default()` stays: the `merging`/`reordering` features (which another crate in a
+    // build could enable) add fields to `LoadOptions`.
+    #[allow(clippy::needless_update)]
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let mut reader = filtered.as_bytes();
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
+            .map_err(|e| format!("bad OBJ file: {e}"))?;
+
+    // The filtered text has no `o`/`g`/`usemtl` lines, so tobj returns a single model; merging
+    // several would still be correct.
+    let mut loaded = Loaded {
+        faces_skipped: skipped.short_faces,
+        polygons_triangulated: skipped.polygons,
+        ..Default::default()
+    };
+    let mut normals: Vec<Vec3> = Vec::new();
+    let mut colors: Vec<Vec3> = Vec::new();
+    let mut all_normals = true;
+    let mut all_colors = true;
+    for model in &models {
+        let mesh = &model.mesh;
+        let base = loaded.positions.len();
+        let count = mesh.positions.len() / 3;
+        if base + count > MAX_ELEMENTS {
+            return Err(format!("more than {MAX_ELEMENTS} vertices"));
+        }
+        loaded.positions.extend(mesh.positions.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
+        all_normals &= mesh.normals.len() == mesh.positions.len();
+        all_colors &= mesh.vertex_color.len() == mesh.positions.len();
+        normals.extend(mesh.normals.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
+        colors.extend(mesh.vertex_color.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
+        for tri in mesh.indices.chunks_exact(3) {
+            if let Some(&bad) = tri.iter().find(|&&i| i as usize >= count) {
+                return Err(format!("tobj produced index {bad} for {count} vertices"));
+            }
+            loaded.indices.push([0, 1, 2].map(|k| (base + tri[k] as usize) as u32));
+        }
+        if loaded.indices.len() > MAX_ELEMENTS {
+            return Err(format!("more than {MAX_ELEMENTS} triangles"));
+        }
+    }
+    if let Some(i) = loaded.positions.iter().position(|p| !p.is_finite()) {
+        return Err(format!(
+            "vertex {i} (in order of first use) has a non-finite position {}",
+            loaded.positions[i]
+        ));
+    }
+    loaded.normals = (all_normals && !normals.is_empty()).then_some(normals);
+    loaded.colors = (all_colors && !colors.is_empty()).then_some(colors);
+    Ok(loaded)
+}
+
+/// What the line filter dropped.
+#[derive(Default)]
+struct Skipped {
+    short_faces: usize,
+    polygons: usize,
+}
+
+/// Keep only `v`, `vt`, `vn` and `f` lines, checking every face corner's indices; count the faces
+/// with fewer than 3 corners (dropped) and with more than 3 (fan-triangulated by tobj).
+fn filter_and_check(text: &str) -> Result<(String, Skipped), String> {
+    // Totals first: a positive index may legally refer to any vertex of the file.
+    let mut totals = [0i64; 3];
+    for line in text.lines() {
+        match line.split_whitespace().next() {
+            Some("v") => totals[0] += 1,
+            Some("vt") => totals[1] += 1,
+            Some("vn") => totals[2] += 1,
+            _ => {}
+        }
+    }
+    let kinds = ["vertex", "texture coordinate", "normal"];
+    let mut seen = [0i64; 3];
+    let mut out = String::with_capacity(text.len());
+    let mut skipped = Skipped::default();
+    for (number, line) in text.lines().enumerate() {
+        let number = number + 1;
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => seen[0] += 1,
+            Some("vt") => seen[1] += 1,
+            Some("vn") => seen[2] += 1,
+            Some("f") => {
+                let corners: Vec<&str> = words.collect();
+                for corner in &corners {
+                    let parts: Vec<&str> = corner.split('/').collect();
+                    if parts.len() > 3 {
+                        return Err(format!("line {number}: face corner '{corner}' has more than 3 parts"));
+                    }
+                    for (k, part) in parts.iter().enumerate() {
+                        if part.is_empty() {
+                            if k == 0 {
+                                return Err(format!(
+                                    "line {number}: face corner '{corner}' has no vertex index"
+                                ));
+                            }
+                            continue;
+                        }
+                        let index: i64 = part.parse().map_err(|_| {
+                            format!("line {number}: '{part}' in face corner '{corner}' is not an integer")
+                        })?;
+                        let valid =
+                            if index > 0 { index <= totals[k] } else { index < 0 && -index <= seen[k] };
+                        if !valid {
+                            return Err(format!(
+                                "line {number}: {} index {index} is out of range (the file has {} {}s{})",
+                                kinds[k],
+                                totals[k],
+                                kinds[k],
+                                if index < 0 {
+                                    format!(", {} before this line", seen[k])
+                                } else {
+                                    String::new()
+                                }
+                            ));
+                        }
+                    }
+                }
+                if corners.len() < 3 {
+                    skipped.short_faces += 1;
+                    continue;
+                }
+                if corners.len() > 3 {
+                    skipped.polygons += 1;
+                }
+            }
+            _ => continue,
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    Ok((out, skipped))
+}
