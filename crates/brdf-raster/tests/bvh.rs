@@ -7,7 +7,7 @@ mod ray_support;
 
 use brdf_raster::bvh::{Bvh, Hit, Ray};
 use glam::{Mat4, Vec3};
-use ray_support::{Rng, asset, brute_any, brute_closest, read_ply};
+use ray_support::{Rng, asset, brute_any, brute_closest, read_ply, sphere};
 
 /// Compare BVH and brute force on every ray; returns the number of rays that hit.
 fn assert_matches_brute_force(tris: &[[Vec3; 3]], bvh: &Bvh, rays: &[Ray]) -> usize {
@@ -119,30 +119,6 @@ fn real_mesh_matches_brute_force_for_thousands_of_rays() {
     }
     let hits = assert_matches_brute_force(&tris, &bvh, &rays);
     assert!(hits > 1000 && hits < rays.len(), "{hits}");
-}
-
-/// An octahedron subdivided `level` times and pushed onto the unit sphere: closed, shared edges.
-fn sphere(level: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mut p = vec![Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
-    let mut f: Vec<[u32; 3]> =
-        vec![[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]];
-    for _ in 0..level {
-        let mut mid = std::collections::HashMap::new();
-        let mut next = Vec::new();
-        for t in &f {
-            let mut m = [0u32; 3];
-            for k in 0..3 {
-                let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
-                m[k] = *mid.entry((a, b)).or_insert_with(|| {
-                    p.push(((p[a as usize] + p[b as usize]) * 0.5).normalize());
-                    (p.len() - 1) as u32
-                });
-            }
-            next.extend([[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], [m[0], m[1], m[2]]]);
-        }
-        f = next;
-    }
-    (p, f)
 }
 
 #[test]

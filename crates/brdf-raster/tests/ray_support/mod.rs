@@ -2,6 +2,7 @@
 //! queries the BVH must equal, and a reader for the binary PLY files in `../shared/assets/meshes`.
 #![allow(dead_code)]
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 
 use brdf_raster::bvh::{Hit, Ray, intersect_triangle, is_degenerate};
@@ -98,4 +99,50 @@ pub fn read_ply(path: &std::path::Path) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         at += 13;
     }
     (positions, faces)
+}
+
+/// An octahedron subdivided `level` times and pushed onto the unit sphere: closed, CCW outward,
+/// with shared edges (vertex `i` is also its own outward normal).
+pub fn sphere(level: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mut p = vec![Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    let mut f: Vec<[u32; 3]> =
+        vec![[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]];
+    for _ in 0..level {
+        let mut mid = HashMap::new();
+        let mut next = Vec::new();
+        for t in &f {
+            let mut m = [0u32; 3];
+            for k in 0..3 {
+                let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+                m[k] = *mid.entry((a, b)).or_insert_with(|| {
+                    p.push(((p[a as usize] + p[b as usize]) * 0.5).normalize());
+                    (p.len() - 1) as u32
+                });
+            }
+            next.extend([[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], [m[0], m[1], m[2]]]);
+        }
+        f = next;
+    }
+    (p, f)
+}
+
+/// A square grid of `(n+1)²` vertices over `[-half, half]²` in the plane `y = 0`, facing +y.
+pub fn grid_y0(half: f32, n: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mut p = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let s = |k: u32| -half + 2.0 * half * k as f32 / n as f32;
+            p.push(Vec3::new(s(i), 0.0, s(j)));
+        }
+    }
+    let mut f = Vec::new();
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    for j in 0..n {
+        for i in 0..n {
+            // CCW seen from +y: (i,j) → (i,j+1) → (i+1,j+1) (x right, z toward the viewer).
+            f.push([at(i, j), at(i, j + 1), at(i + 1, j + 1)]);
+            f.push([at(i, j), at(i + 1, j + 1), at(i + 1, j)]);
+        }
+    }
+    (p, f)
 }
