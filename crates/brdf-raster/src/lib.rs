@@ -9,14 +9,6 @@ pub mod io;
 pub mod mesh;
 pub mod normals;
 pub mod procedural;
-pub mod camera;
-pub mod clip;
-pub mod framebuffer;
-pub mod render;
-pub mod scene;
-pub mod setup;
-pub mod shading;
-pub mod tiles;
 
 pub use error::RasterError;
 pub use camera::{Camera, Projection};
