@@ -11,9 +11,4 @@ pub mod normals;
 pub mod procedural;
 
 pub use error::RasterError;
-pub use camera::{Camera, Projection};
-pub use framebuffer::Frame;
 pub use mesh::Mesh;
-pub use render::{NoOcclusion, Occlusion, RenderOptions, ShadePoint, coverage_counts, render, render_with};
-pub use scene::{Instance, Material, Scene};
-pub use shading::ShadingMode;
