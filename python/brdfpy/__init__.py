@@ -1,5 +1,39 @@
-"""brdfpy: fast reflectance models (BRDFs) and a CPU software rasterizer with a Rust core."""
+"""brdfpy: fast reflectance models (BRDFs) with a Rust core and a NumPy API.
 
-from brdfpy._brdfpy import __version__
+Conventions, everywhere: directions point away from the surface (``l`` toward the light, ``v`` toward the
+viewer, ``n`` the unit normal, ``h = normalize(l + v)``, ``r = 2(n·l)n − l``); ``Model.eval`` is the BRDF
+value ``f_r`` in 1/sr without the cosine and ``Model.shade`` what a renderer multiplies by the light's
+color; colors are linear RGB, clamping and tone mapping are explicit steps.
 
-__all__ = ["__version__"]
+>>> import brdfpy
+>>> m = brdfpy.model("lambert", albedo=0.5)
+>>> m.eval([0, 0, 1], [0, 0, 1], [0, 0, 1])
+array([0.15915494, 0.15915494, 0.15915494], dtype=float32)
+"""
+
+from __future__ import annotations
+
+import os
+
+from brdfpy import vectors
+from brdfpy._brdfpy import BrdfError, __version__, get_num_threads, set_num_threads
+from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
+from brdfpy.models import Model, ModelInfo, ParamInfo, model, model_info, models
+
+__all__ = [
+    "BrdfError",
+    "Model",
+    "ModelInfo",
+    "ParamInfo",
+    "__version__",
+    "get_num_threads",
+    "model",
+    "model_info",
+    "models",
+    "set_num_threads",
+    "vectors",
+]
+
+# The worker threads of the pool exist only in the process that started them; a forked child starts afresh.
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_reset_after_fork)

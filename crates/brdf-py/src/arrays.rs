@@ -1,24 +1,85 @@
-//! NumPy ↔ `&[Vec3]`: shape, dtype and finiteness checks that name the argument.
+//! NumPy ↔ slices: zero-copy views of the inputs, one allocation for the output, and the checks that name
+//! the argument. The Python wrapper (`brdfpy/_arrays.py`) has already converted array-likes to C-contiguous
+//! float32; everything is checked again here so that a direct call into `_brdfpy` cannot misbehave either.
 
 use glam::Vec3;
-use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use numpy::{PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
-/// A borrowed `(N, 3)` float32 C-contiguous array viewed as `&[Vec3]`.
-pub fn vec3_slice<'a>(name: &str, a: &'a PyReadonlyArray2<'_, f32>) -> PyResult<&'a [Vec3]> {
+use crate::errors::invalid;
+use crate::threads::RowError;
+
+/// A borrowed `(k, 3)` float32 C-contiguous array (k ≥ 1) viewed as `&[Vec3]`, without copying.
+pub fn vec3_view<'a>(name: &str, a: &'a PyReadonlyArray2<'_, f32>) -> PyResult<&'a [Vec3]> {
     let shape = a.shape();
     if shape[1] != 3 {
-        return Err(PyValueError::new_err(format!("{name}: expected shape (N, 3) or (3,), got {shape:?}")));
+        return Err(invalid(format!(
+            "{name}: expected shape (N, 3) or (3,), got ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    if shape[0] == 0 {
+        return Err(invalid(format!("{name}: is empty (shape (0, 3))")));
     }
     let s = a
         .as_slice()
         .map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous float32 array")))?;
-    if let Some(i) = s.iter().position(|x| !x.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "{name}: contains a non-finite value (NaN or inf) at row {}",
-            i / 3
-        )));
-    }
     Ok(bytemuck::cast_slice(s))
+}
+
+/// A borrowed float32 C-contiguous array of any shape as a flat slice (may be empty).
+pub fn flat_view<'a>(name: &str, a: &'a PyReadonlyArrayDyn<'_, f32>) -> PyResult<&'a [f32]> {
+    a.as_slice().map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous float32 array")))
+}
+
+/// `true` when every value is finite. A branch-free fold, so that it vectorises.
+#[inline]
+pub fn all_finite(xs: &[f32]) -> bool {
+    xs.iter().fold(true, |ok, x| ok & x.is_finite())
+}
+
+/// Check that `rows` (starting at element `offset` of argument `name`) hold only finite numbers.
+#[inline]
+pub fn check_vec3(name: &'static str, rows: &[Vec3], offset: usize) -> Result<(), RowError> {
+    if all_finite(bytemuck::cast_slice(rows)) {
+        return Ok(());
+    }
+    let i = rows.iter().position(|r| !r.is_finite()).unwrap_or(0);
+    Err(RowError::non_finite_row(name, offset + i))
+}
+
+/// Check that `xs` (starting at element `offset` of argument `name`) are finite.
+#[inline]
+pub fn check_flat(name: &'static str, xs: &[f32], offset: usize) -> Result<(), RowError> {
+    if all_finite(xs) {
+        return Ok(());
+    }
+    let i = xs.iter().position(|x| !x.is_finite()).unwrap_or(0);
+    Err(RowError::non_finite_index(name, offset + i))
+}
+
+/// The part of an input that serves output elements `offset .. offset + len`: the same slice when it has
+/// one element (broadcast), else the matching sub-slice. Lengths are checked before any batch runs.
+#[inline]
+pub fn part<T>(xs: &[T], offset: usize, len: usize) -> &[T] {
+    if xs.len() == 1 { xs } else { &xs[offset..offset + len] }
+}
+
+/// Element `i` of a length-1 (broadcast) or full-length slice.
+#[inline(always)]
+pub fn at<T: Copy>(xs: &[T], i: usize) -> T {
+    if xs.len() == 1 { xs[0] } else { xs[i] }
+}
+
+/// The common length of inputs that are each of length 1 or N (NumPy broadcasting of `(1, …)` and
+/// `(N, …)`), naming the first argument that does not fit.
+pub fn broadcast_len(inputs: &[(&str, usize)]) -> PyResult<usize> {
+    let n = inputs.iter().map(|(_, k)| *k).max().unwrap_or(0);
+    for (name, k) in inputs {
+        if *k != 1 && *k != n {
+            return Err(invalid(format!("{name}: has {k} elements, which does not broadcast against {n}")));
+        }
+    }
+    Ok(n)
 }

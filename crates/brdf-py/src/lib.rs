@@ -1,10 +1,15 @@
-//! Python bindings of brdf-core and brdf-raster: convert, validate, release the GIL, map errors.
+//! Python bindings of brdf-core: convert, validate, release the GIL and map errors. Every function
+//! follows one shape: check the arguments, view the NumPy arrays without copying, release the GIL for
+//! large batches and run on the pool (`threads.rs`), call the core, map its error (`errors.rs`).
+//! One file per Python-visible area; the Python package `brdfpy` wraps these in typed functions.
 
 use pyo3::prelude::*;
 
 mod arrays;
 mod errors;
 mod models;
+mod threads;
+mod vectors;
 
 /// The compiled module `brdfpy._brdfpy`; the public API is re-exported by `brdfpy/__init__.py`.
 #[pymodule]
@@ -12,10 +17,16 @@ mod _brdfpy {
     use pyo3::prelude::*;
 
     #[pymodule_export]
-    use super::models::{Model, model_names};
+    use super::models::{Model, model_names, model_spec};
+    #[pymodule_export]
+    use super::threads::{_reset_after_fork, get_num_threads, set_num_threads};
+    #[pymodule_export]
+    use super::vectors::{halfway, reflect, refract};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
-        m.add("__version__", env!("CARGO_PKG_VERSION"))
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        m.add("BrdfError", m.py().get_type::<super::errors::BrdfError>())?;
+        Ok(())
     }
 }

@@ -1,30 +1,202 @@
-//! `Model`: a registry model as a Python object with batch `eval` and `shade`.
+//! `Model`: a registry model as a Python object with batch `eval` and `shade`; the registry's specs as
+//! Python dicts.
 
 use brdf_core::batch::{Directions, Quantity, evaluate};
+use brdf_core::{Input, ModelSpec, ParamKind, ParamSpec, Params, Value};
 use glam::Vec3;
 use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
-use crate::arrays::vec3_slice;
-use crate::errors::to_py;
+use crate::arrays::{check_vec3, part, vec3_view};
+use crate::errors::{invalid, to_py};
+use crate::threads::{RowError, fill};
 
-/// Names of every registered model.
+/// Names of every registered model, in registry order.
 #[pyfunction]
 pub fn model_names() -> Vec<&'static str> {
     brdf_core::MODEL_SPECS.iter().map(|s| s.name).collect()
 }
 
-/// A reflectance model with fixed parameters.
-#[pyclass(frozen, module = "brdfpy._brdfpy")]
+/// An `f32` as the Python float with the same shortest decimal form (0.3f32 → 0.3, not 0.30000001192…),
+/// so that defaults and resolved parameters read back as they were written.
+fn py_float(x: f32) -> f64 {
+    format!("{x}").parse().unwrap_or(f64::from(x))
+}
+
+fn value_to_py<'py>(py: Python<'py>, kind: ParamKind, v: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        Value::Scalar(x) => py_float(*x).into_pyobject(py)?.into_any(),
+        Value::Color(c) => PyTuple::new(py, c.iter().map(|&x| py_float(x)))?.into_any(),
+        Value::Choice(c) => PyString::new(py, c).into_any(),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Array(a) => {
+            let width = match kind {
+                ParamKind::Array { width } if width > 0 => width,
+                _ => a.len().max(1),
+            };
+            let rows: Vec<Vec<f64>> =
+                a.chunks(width).map(|r| r.iter().map(|&x| py_float(x)).collect()).collect();
+            PyList::new(py, rows)?.into_any()
+        }
+    })
+}
+
+fn kind_name(kind: ParamKind) -> &'static str {
+    match kind {
+        ParamKind::Scalar => "scalar",
+        ParamKind::Color => "color",
+        ParamKind::Choice(_) => "choice",
+        ParamKind::Bool => "bool",
+        ParamKind::Array { .. } => "array",
+    }
+}
+
+fn param_to_py<'py>(py: Python<'py>, p: &ParamSpec) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", p.name)?;
+    d.set_item("kind", kind_name(p.kind))?;
+    d.set_item("default", value_to_py(py, p.kind, &p.default)?)?;
+    let numeric = matches!(p.kind, ParamKind::Scalar | ParamKind::Color | ParamKind::Array { .. });
+    d.set_item("min", numeric.then(|| py_float(p.min)))?;
+    d.set_item("max", numeric.then(|| py_float(p.max)))?;
+    d.set_item("unit", p.unit)?;
+    d.set_item("doc", p.doc)?;
+    match p.kind {
+        ParamKind::Choice(c) => d.set_item("choices", PyTuple::new(py, c)?)?,
+        _ => d.set_item("choices", py.None())?,
+    }
+    if let ParamKind::Array { width } = p.kind {
+        d.set_item("width", width)?;
+    }
+    Ok(d)
+}
+
+fn spec_to_py<'py>(py: Python<'py>, s: &ModelSpec) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", s.name)?;
+    d.set_item("summary", s.summary)?;
+    d.set_item("source", s.source)?;
+    d.set_item("physical", s.physical)?;
+    d.set_item("anisotropic", s.anisotropic)?;
+    let params = s.params.iter().map(|p| param_to_py(py, p)).collect::<PyResult<Vec<_>>>()?;
+    d.set_item("params", PyList::new(py, params)?)?;
+    Ok(d)
+}
+
+/// Everything the registry knows about model `name`: name, summary, source, physical, anisotropic and
+/// params (a list of dicts: name, kind, default, min, max, unit, doc, choices).
+#[pyfunction]
+pub fn model_spec<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyDict>> {
+    match brdf_core::models::spec(name) {
+        Some(s) => spec_to_py(py, s),
+        None => Err(to_py(brdf_core::BrdfError::UnknownModel {
+            name: name.to_string(),
+            known: model_names().join(", "),
+        })),
+    }
+}
+
+/// Append the numbers of `x` (a number or a nested sequence of numbers, at most `depth` levels deep) to
+/// `out`; `widths` records the length of every innermost sequence so that ragged rows are refused.
+fn flatten(x: &Bound<'_, PyAny>, depth: usize, out: &mut Vec<f64>, widths: &mut Vec<usize>) -> Option<()> {
+    if x.is_instance_of::<PyString>() || x.is_instance_of::<PyBool>() {
+        return None;
+    }
+    if let Ok(f) = x.extract::<f64>() {
+        out.push(f);
+        return Some(());
+    }
+    if depth == 0 {
+        return None;
+    }
+    // NumPy arrays become nested lists first; anything else must be a list or a tuple.
+    let seq = if x.hasattr("tolist").unwrap_or(false) && x.hasattr("ndim").unwrap_or(false) {
+        x.call_method0("tolist").ok()?
+    } else {
+        x.clone()
+    };
+    if let Ok(f) = seq.extract::<f64>() {
+        out.push(f); // a 0-d array
+        return Some(());
+    }
+    if !(seq.is_instance_of::<PyList>() || seq.is_instance_of::<PyTuple>()) {
+        return None;
+    }
+    let before = out.len();
+    let mut nested = false;
+    for item in seq.try_iter().ok()? {
+        let item = item.ok()?;
+        let is_number = item.extract::<f64>().is_ok() && !item.is_instance_of::<PyBool>();
+        if !is_number {
+            nested = true;
+        }
+        flatten(&item, depth - 1, out, widths)?;
+    }
+    if !nested {
+        widths.push(out.len() - before);
+    }
+    Some(())
+}
+
+/// A Python parameter value as a core [`Input`]: bool (or `numpy.bool_`), str, a number, or a (nested)
+/// sequence or array of numbers.
+fn to_input(name: &str, x: &Bound<'_, PyAny>) -> PyResult<Input> {
+    if x.is_instance_of::<PyString>() {
+        return Ok(Input::Text(x.extract::<String>()?));
+    }
+    if let Ok(b) = x.extract::<bool>() {
+        return Ok(Input::Bool(b));
+    }
+    if let Ok(f) = x.extract::<f64>() {
+        return Ok(Input::Number(f));
+    }
+    let (mut out, mut widths) = (Vec::new(), Vec::new());
+    match flatten(x, 2, &mut out, &mut widths) {
+        Some(()) if widths.windows(2).any(|w| w[0] != w[1]) => {
+            Err(invalid(format!("parameter {name:?}: rows of different lengths {widths:?}")))
+        }
+        Some(()) if out.is_empty() => Err(invalid(format!("parameter {name:?}: is empty"))),
+        Some(()) => Ok(Input::Numbers(out)),
+        None => Err(PyTypeError::new_err(format!(
+            "parameter {name:?}: expected a number, a bool, a string or a sequence of numbers, got {}",
+            x.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into())
+        ))),
+    }
+}
+
+/// A reflectance model with fixed, validated parameters (`brdfpy.Model` subclasses it).
+#[pyclass(frozen, subclass, module = "brdfpy._brdfpy")]
 pub struct Model {
     inner: brdf_core::Model,
+    params: Params,
+}
+
+impl Model {
+    /// The core model (for other binding areas, e.g. the BRDF checks).
+    pub fn core(&self) -> &brdf_core::Model {
+        &self.inner
+    }
 }
 
 #[pymethods]
 impl Model {
+    /// Build model `name` from keyword parameters; defaults fill the rest.
     #[new]
-    fn new(name: &str) -> PyResult<Self> {
-        Ok(Self { inner: brdf_core::Model::build(name, &[]).map_err(to_py)? })
+    #[pyo3(signature = (name, /, **params))]
+    fn new(name: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let mut inputs = Vec::new();
+        if let Some(d) = params {
+            for (k, v) in d.iter() {
+                let key: String = k.extract()?;
+                let input = to_input(&key, &v)?;
+                inputs.push((key, input));
+            }
+        }
+        let inner = brdf_core::Model::build(name, &inputs).map_err(to_py)?;
+        let params = Params::resolve(inner.spec(), &inputs).map_err(to_py)?;
+        Ok(Self { inner, params })
     }
 
     /// Registry name.
@@ -33,7 +205,32 @@ impl Model {
         self.inner.spec().name
     }
 
-    /// Batch evaluation; arrays are float32 C-contiguous (N, 3) or (1, 3).
+    /// `True` for BRDFs in 1/sr (reciprocal, energy-conserving); `False` for course formulas.
+    #[getter]
+    fn physical(&self) -> bool {
+        self.inner.spec().physical
+    }
+
+    /// `True` when the model reads the tangent.
+    #[getter]
+    fn anisotropic(&self) -> bool {
+        self.inner.spec().anisotropic
+    }
+
+    /// Every parameter's resolved value (defaults filled in), in documentation order.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let spec = self.inner.spec();
+        for (name, v) in self.params.values() {
+            let kind = spec.params.iter().find(|p| p.name == *name).map_or(ParamKind::Scalar, |p| p.kind);
+            d.set_item(*name, value_to_py(py, kind, v)?)?;
+        }
+        Ok(d)
+    }
+
+    /// Batch evaluation: `l`, `v`, `n` (and `tangent`) are float32 C-contiguous `(k, 3)` arrays with k
+    /// equal to 1 or N. Returns float32 `(N, 3)`: `f_r` [1/sr], or the shade value when `shade` is true.
     #[pyo3(signature = (l, v, n, tangent=None, shade=false))]
     fn _eval<'py>(
         &self,
@@ -44,18 +241,51 @@ impl Model {
         tangent: Option<PyReadonlyArray2<'py, f32>>,
         shade: bool,
     ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let (ls, vs, ns) = (vec3_slice("l", &l)?, vec3_slice("v", &v)?, vec3_slice("n", &n)?);
-        let ts = tangent.as_ref().map(|t| vec3_slice("tangent", t)).transpose()?;
-        let (dirs, len) = Directions::new(ls, vs, ns, ts).map_err(to_py)?;
+        let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
+        let ts = tangent.as_ref().map(|t| vec3_view("tangent", t)).transpose()?;
+        // Checks lengths and broadcasting, naming the argument that does not fit.
+        let (_, len) = Directions::new(ls, vs, ns, ts).map_err(to_py)?;
         let q = if shade { Quantity::Shade } else { Quantity::Brdf };
+        for (name, s) in [("l", ls), ("v", vs), ("n", ns)].into_iter().chain(ts.map(|t| ("tangent", t))) {
+            if s.len() == 1 {
+                check_vec3(name, s, 0).map_err(RowError::into_py)?;
+            }
+        }
         let out = PyArray2::<f32>::zeros(py, [len, 3], false);
         {
             let mut w = out.readwrite();
-            let slice =
-                w.as_slice_mut().map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+            let slice = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             let o: &mut [Vec3] = bytemuck::cast_slice_mut(slice);
-            py.detach(|| evaluate(&self.inner, &dirs, q, o));
+            let model = &self.inner;
+            fill(py, o, |offset, chunk| {
+                let k = chunk.len();
+                let (cl, cv, cn) = (part(ls, offset, k), part(vs, offset, k), part(ns, offset, k));
+                let ct = ts.map(|t| part(t, offset, k));
+                // Broadcast (length-1) inputs were checked once above.
+                for (name, s) in
+                    [("l", cl), ("v", cv), ("n", cn)].into_iter().chain(ct.map(|t| ("tangent", t)))
+                {
+                    if s.len() > 1 {
+                        check_vec3(name, s, offset)?;
+                    }
+                }
+                // Lengths are consistent by construction (checked above), so this cannot fail.
+                if let Ok((dirs, _)) = Directions::new(cl, cv, cn, ct) {
+                    evaluate(model, &dirs, q, chunk);
+                }
+                Ok(())
+            })?;
         }
         Ok(out)
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let mut s = format!("brdfpy.model({:?}", self.inner.spec().name);
+        let params = self.params(py)?;
+        for (k, v) in params.iter() {
+            s.push_str(&format!(", {}={}", k.str()?, v.repr()?));
+        }
+        s.push(')');
+        Ok(s)
     }
 }
