@@ -10,7 +10,7 @@ import brdfpy
 import numpy as np
 import pytest
 
-from conftest import MIN_COMPARED, assert_close, model_defaults, random_geometry, well_conditioned
+from conftest import MIN_COMPARED, RTOL, assert_close, model_defaults, random_geometry, well_conditioned
 from oracle import models as om
 
 N_SAMPLES = 4000
@@ -77,7 +77,7 @@ CT_CASES: list[dict[str, Any]] = [
     {"fresnel": "schlick", "metal": "au"},
     {"fresnel": "none", "kd": [0.3, 0.2, 0.1]},
     {"distribution": "beckmann", "masking": "v_groove", "weight2": 0.3, "roughness2": 0.6},
-    {"distribution": "ggx", "masking": "kelemen", "weight2": 0.5, "roughness2": 0.05},
+    {"distribution": "ggx", "masking": "kelemen", "weight2": 0.5, "roughness2": 0.1},
 ]
 CASES += [("cook_torrance", c) for c in CT_CASES]
 
@@ -248,3 +248,31 @@ def test_shade_is_eval_times_cosine_for_physical_models(name: str, rng: np.rando
         lit = nl > 1e-3
         np.testing.assert_allclose(f[lit] * nl[lit, None], s[lit], rtol=1e-4, atol=1e-30)
         assert np.all(f[nl <= 0] == 0)
+
+
+@pytest.mark.parametrize("distribution", ["ggx", "beckmann"])
+def test_nearly_opposite_grazing_directions_stay_accurate(
+    distribution: str, rng: np.random.Generator
+) -> None:
+    """Light and viewer both grazing, on opposite sides (|l + v| < MIN_HALF): the half vector is
+    ill-determined in float32 (see conftest), so the main comparison leaves these out. Here the typical
+    (median) sample must still match to RTOL and the worst to 10 % (measured: ~3 % at |l + v| ~ 0.01,
+    from float32 cancellation in h; a formula slip moves every sample, and the median with it)."""
+    count = 4000
+    n = np.tile([0.0, 0.0, 1.0], (count, 1))
+    theta = np.deg2rad(rng.uniform(84, 89.9, (2, count)))
+    phi = rng.uniform(0, 2 * np.pi, count)
+    dphi = np.pi + rng.normal(scale=0.05, size=count)
+    l = np.stack([np.sin(theta[0]) * np.cos(phi), np.sin(theta[0]) * np.sin(phi), np.cos(theta[0])], -1)
+    v = np.stack(
+        [np.sin(theta[1]) * np.cos(phi + dphi), np.sin(theta[1]) * np.sin(phi + dphi), np.cos(theta[1])], -1
+    )
+    geo = {"l": l.astype(np.float32), "v": v.astype(np.float32), "n": n.astype(np.float32)}
+    over = {"distribution": distribution, "roughness": 0.3}
+    params = _params("cook_torrance", over)
+    want = om.evaluate("cook_torrance", params, **{k: a.astype(np.float64) for k, a in geo.items()})
+    got = brdfpy.model("cook_torrance", **over).eval(**geo).astype(np.float64)
+    np.testing.assert_allclose(got, want, rtol=0.1, atol=1e-5 * want.max())
+    significant = want > 1e-3 * want.max()
+    rel = np.abs(got[significant] - want[significant]) / want[significant]
+    assert np.median(rel) < RTOL, np.median(rel)

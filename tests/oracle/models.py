@@ -154,12 +154,14 @@ def toon(
     specular_color: Any,
     specular_threshold: float,
     specular_mode: str = "phong",
+    specular_gate: bool = True,
 ) -> F64:
     """Seed 000 toon shading, exactly its GLSL (a course formula: this is the shade).
 
     Diffuse: ``n.l < dark_threshold -> dark_scale * C``; ``n.l < diffuse_threshold -> C_mid``; else ``C``.
     Specular: ``s < specular_threshold -> 0`` else ``C_s``, with ``s = v.r`` ("phong", seed 000
     ``Toon_Specular_BRDF``) or ``s = n.h`` ("blinn", Blinn's half vector with gamma = 1, seed 000).
+    ``specular_gate`` drops the highlight where ``n.l <= 0`` (seed 000's GLSL does not gate).
     """
     nl = g.nl
     c = color(diffuse_color)
@@ -170,15 +172,17 @@ def toon(
     )
     s = dot(g.v, reflect(g.l, g.n)) if specular_mode == "phong" else dot(g.n, g.h)
     spec = np.where((s < specular_threshold)[..., None], 0.0, color(specular_color))
+    if specular_gate:
+        spec = np.where((nl > 0)[..., None], spec, 0.0)
     return diff + spec
 
 
-def phong_classic(g: Geo, kd: Any, ks: Any, shininess: float, gate: bool = False) -> F64:
+def phong_classic(g: Geo, kd: Any, ks: Any, shininess: float, specular_gate: bool = True) -> F64:
     """Seed 004 eq. 12.23 / seed 000: ``kd max(n.l, 0) + ks clamp(v.r, 0, 1)^gamma`` (course formula).
-    ``gate=True`` drops the specular where ``n.l <= 0`` (the light is behind the surface)."""
+    ``specular_gate`` drops the specular where ``n.l <= 0`` (the light is behind the surface)."""
     rv = np.clip(dot(g.v, reflect(g.l, g.n)), 0.0, 1.0)
     spec = rv**shininess
-    if gate:
+    if specular_gate:
         spec = np.where(g.nl > 0, spec, 0.0)
     return _rgb(np.maximum(g.nl, 0.0), kd) + _rgb(spec, ks)
 
@@ -290,7 +294,9 @@ def cook_torrance(
     if fresnel == "none":
         f = np.ones((len(c), 3))
     elif fresnel == "schlick":
-        f0c = color(fr.METAL_F0[metal]) if metal != "none" else color(f0)
+        # A reflectance cannot exceed 1: seed 001's table gives gold's red F0 as 1.022 (an artifact of its
+        # colour conversion), so the preset is clipped to [0, 1].
+        f0c = np.minimum(color(fr.METAL_F0[metal]), 1.0) if metal != "none" else color(f0)
         f = fr.schlick(c[..., None], f0c)
     elif fresnel == "dielectric":
         f = np.repeat(fr.dielectric(c, ior)[..., None], 3, axis=-1)
@@ -323,8 +329,9 @@ def strauss(
     metalness: float,
     transparency: float,
     kf: float = 1.12,
-    kg: float = 1.01,
+    ks: float = 1.01,
     kj: float = 0.1,
+    fresnel_angle: str = "incidence",
 ) -> F64:
     """Strauss 1990 "A Realistic Lighting Model for Computer Animators" (seed 004 "Strauss (3)-(6)"):
     the light's contribution ``Q_d + Q_s`` (no ambient) per unit light colour, i.e. the shade.
@@ -333,8 +340,11 @@ def strauss(
     ``Q_s = max(0, r.v)^h r_j C_s``, ``h = 3/(1 - s)``, ``r_n = 1 - t - r_d``,
     ``r_j = min(1, r_n + (r_n + k_j) F(th_i) G(th_i) G(th_r))``,
     ``C_s = W + m (1 - F(th_i)) (C - W)`` with W white (Strauss 1990; seed 004 only says "interpolated
-    between the surface colour and the light colour"). Angles enter F and G as ``theta / (pi/2)``.
+    between the surface colour and the light colour"). Angles enter F and G as ``theta / (pi/2)``;
+    ``ks`` is the shadow constant (seed 004's ``k_g``); ``fresnel_angle="mean"`` feeds F with
+    ``(theta_i + theta_r)/2`` instead of ``theta_i``.
     """
+    kg = ks
     c = color(color_)
     s, m, t = smoothness, metalness, transparency
     rd = (1 - s**3) * (1 - t)
@@ -343,28 +353,35 @@ def strauss(
     xi = np.arccos(np.clip(g.nl, 0.0, 1.0)) / (PI / 2)
     xr = np.arccos(np.clip(g.nv, 0.0, 1.0)) / (PI / 2)
     rn = 1 - t - rd
-    fi = _strauss_f(xi, kf)
+    fi = _strauss_f(xi if fresnel_angle == "incidence" else 0.5 * (xi + xr), kf)
     rj = np.minimum(1.0, rn + (rn + kj) * fi * _strauss_g(xi, kg) * _strauss_g(xr, kg))
     h = 3.0 / (1.0 - s)
     rs = np.maximum(0.0, dot(reflect(g.l, g.n), g.v)) ** h * rj
     cs = 1.0 + m * (1 - fi)[..., None] * (c - 1.0)
-    return qd + rs[..., None] * cs
+    # Strauss lights only what both the light and the viewer see: 0 unless n.l > 0 and n.v > 0.
+    seen = ((g.nl > 0) & (g.nv > 0))[..., None]
+    return np.where(seen, qd + rs[..., None] * cs, 0.0)
 
 
 # ------------------------------------------------------------------------------- anisotropic
 
 
-def ward(g: Geo, rho_d: Any, rho_s: Any, alpha_x: float, alpha_y: float, normalization: str = "ward") -> F64:
+def ward(
+    g: Geo, rho_d: Any, rho_s: Any, alpha_x: float, alpha_y: float, normalization: str = "walter"
+) -> F64:
     """Ward 1992 ("Measuring and Modeling Anisotropic Reflection", eq. 5; seed 001 "Anisotropic Ward"):
     ``rho_d/pi + rho_s exp(-tan^2 th_h (cos^2 ph_h/ax^2 + sin^2 ph_h/ay^2))
-    / (4 pi ax ay sqrt(cos i cos o))``.
+    / (4 pi ax ay sqrt(cos i cos o))``: the exact tan^2 exponent (eq. 5a, "walter": Walter 2005 "Notes on
+    the Ward BRDF" points out that the paper's eq. 5b is not the same function) or eq. 5b,
+    ``exp(-2 ((h.x/ax)^2 + (h.y/ay)^2)/(1 + h.n))`` ("ward").
     """
-    if normalization != "ward":
-        raise NotImplementedError(f"oracle: ward normalization {normalization!r}")
     hx, hy, hz = g.loc(g.h)
     tan2, c2, s2 = mf._trig(hx, hy, hz)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        e = np.exp(-tan2 * (c2 / alpha_x**2 + s2 / alpha_y**2))
+        if normalization == "walter":
+            e = np.exp(-tan2 * (c2 / alpha_x**2 + s2 / alpha_y**2))
+        else:
+            e = np.exp(-2.0 * ((hx / alpha_x) ** 2 + (hy / alpha_y) ** 2) / (1.0 + hz))
         spec = e / (4 * PI * alpha_x * alpha_y * np.sqrt(g.nl * g.nv))
     return color(rho_d) / PI + _rgb(spec, rho_s)
 
@@ -393,14 +410,21 @@ def ashikhmin_shirley(g: Geo, rd: Any, rs: Any, nu: float, nv: float) -> F64:
     return diff + spec
 
 
-def lafortune(g: Geo, rho_d: Any, rho_s: Any, lobes: Any) -> F64:
+def lafortune(g: Geo, rho_d: Any, rho_s: Any, lobes: Any, power: str = "exact") -> F64:
     """Lafortune et al. 1997 generalised cosine lobes (seed 001 "General plausible cosine lobe"):
-    ``rho_d/pi + sum_i rho_s max(0, Cx lx vx + Cy ly vy + Cz lz vz)^n_i`` in the local (t, b, n) frame."""
+    ``rho_d/pi + sum_i rho_s max(0, Cx lx vx + Cy ly vy + Cz lz vz)^n_i`` in the local (t, b, n) frame.
+    ``power="schlick"`` replaces ``S^n`` by Schlick's rational ``S/(n - nS + S)`` (seed 001).
+    """
     lx, ly, lz = g.loc(g.l)
     vx, vy, vz = g.loc(g.v)
     total = np.zeros_like(g.nl)
     for cx, cy, cz, ex in np.asarray(lobes, dtype=np.float64).reshape(-1, 4):
-        total += np.maximum(0.0, cx * lx * vx + cy * ly * vy + cz * lz * vz) ** ex
+        base = np.maximum(0.0, cx * lx * vx + cy * ly * vy + cz * lz * vz)
+        if power == "exact":
+            total += base**ex
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                total += np.where(base > 0, base / (ex - ex * base + base), 0.0)
     return color(rho_d) / PI + _rgb(total, rho_s)
 
 
@@ -418,7 +442,7 @@ MODELS: dict[str, tuple[Callable[..., F64], bool, dict[str, str]]] = {
     "phong": (phong, False, {}),
     "blinn_phong": (blinn_phong, False, {}),
     "cook_torrance": (cook_torrance, False, {}),
-    "strauss": (strauss, True, {"color": "color_"}),
+    "strauss": (strauss, True, {"color": "color_"}),  # physical: False in the registry (empirical)
     "ward": (ward, False, {}),
     "ashikhmin_shirley": (ashikhmin_shirley, False, {}),
     "lafortune": (lafortune, False, {}),
