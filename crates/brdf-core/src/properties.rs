@@ -29,6 +29,15 @@
 //! - `∫ D cos` of Beckmann α ≥ 0.05 and of a GGX with (αx, αy) = (0.02, 0.6): 1 to < 1e-4.
 //!
 //! Partial sums are accumulated in f64.
+//!
+//! ```
+//! use brdf_core::Model;
+//! use brdf_core::properties::{Quadrature, directional_albedo, reciprocity_error};
+//! let m = Model::build("oren_nayar", &[]).unwrap();
+//! let rho = directional_albedo(&m, 0.5, &Quadrature::default()).unwrap();
+//! assert!(rho.max_element() < 1.0);
+//! assert!(reciprocity_error(&m, 1000, 0) < 1e-5);
+//! ```
 
 use glam::{DVec3, Vec3, Vec3A};
 use rayon::prelude::*;

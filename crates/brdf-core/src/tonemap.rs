@@ -7,6 +7,13 @@
 //! Every function works per channel on linear RGB. Inputs that are negative or NaN are treated as 0
 //! and `+∞` as the largest finite value, so that no operator ever returns NaN (a NaN pixel would
 //! otherwise poison every later image operation).
+//!
+//! ```
+//! use brdf_core::tonemap::{Operator, encode_srgb8};
+//! use glam::Vec3;
+//! // bench/SCENE.md's centre pixel.
+//! assert_eq!(encode_srgb8(Vec3::new(0.810225, 0.311365, 0.211593), Operator::Clamp), [232, 151, 127]);
+//! ```
 
 use glam::Vec3;
 
