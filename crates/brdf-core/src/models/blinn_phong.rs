@@ -81,13 +81,13 @@ pub fn phong_exponent_from_blinn(blinn_exponent: f32) -> f32 {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BlinnPhong {
     /// Diffuse reflectance `kd`.
-    pub kd: Vec3,
+    kd: Vec3,
     /// Specular reflectance `ks`.
-    pub ks: Vec3,
+    ks: Vec3,
     /// Blinn exponent `m ≥ 0`.
-    pub shininess: f32,
+    shininess: f32,
     /// Normalisation factor in use.
-    pub normalization: BlinnPhongNormalization,
+    normalization: BlinnPhongNormalization,
     /// `kd/π`, precomputed.
     diffuse: Vec3,
     /// `ks · N(m)`, precomputed.
@@ -103,6 +103,30 @@ impl BlinnPhong {
             BlinnPhongNormalization::Exact => normalization_exact(shininess),
         };
         Self { kd, ks, shininess, normalization, diffuse: kd * FRAC_1_PI, specular: ks * factor }
+    }
+
+    /// Diffuse reflectance `kd`.
+    #[inline]
+    pub fn kd(&self) -> Vec3 {
+        self.kd
+    }
+
+    /// Specular reflectance `ks`.
+    #[inline]
+    pub fn ks(&self) -> Vec3 {
+        self.ks
+    }
+
+    /// Blinn exponent `m ≥ 0`.
+    #[inline]
+    pub fn shininess(&self) -> f32 {
+        self.shininess
+    }
+
+    /// Normalisation factor in use.
+    #[inline]
+    pub fn normalization(&self) -> BlinnPhongNormalization {
+        self.normalization
     }
 }
 

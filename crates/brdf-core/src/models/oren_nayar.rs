@@ -78,11 +78,11 @@ const SIGMA: ParamSpec = ParamSpec::scalar(
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrenNayar {
     /// Facet albedo ρ.
-    pub albedo: Vec3,
+    albedo: Vec3,
     /// Roughness σ [rad].
-    pub sigma: f32,
+    sigma: f32,
     /// Constant used in `A`.
-    pub variant: OrenNayarVariant,
+    variant: OrenNayarVariant,
     /// `ρ A / π`.
     a_term: Vec3,
     /// `ρ B / π`.
@@ -100,6 +100,24 @@ impl OrenNayar {
             a_term: rho_pi * oren_nayar_a(sigma, variant.a_constant()),
             b_term: rho_pi * oren_nayar_b(sigma),
         }
+    }
+
+    /// Facet albedo ρ.
+    #[inline]
+    pub fn albedo(&self) -> Vec3 {
+        self.albedo
+    }
+
+    /// Roughness σ [rad].
+    #[inline]
+    pub fn sigma(&self) -> f32 {
+        self.sigma
+    }
+
+    /// Constant used in `A`.
+    #[inline]
+    pub fn variant(&self) -> OrenNayarVariant {
+        self.variant
     }
 }
 
@@ -164,11 +182,11 @@ impl Bxdf for OrenNayar {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrenNayarFull {
     /// Facet albedo ρ.
-    pub albedo: Vec3,
+    albedo: Vec3,
     /// Roughness σ [rad].
-    pub sigma: f32,
+    sigma: f32,
     /// Whether the interreflection term `L2` is included.
-    pub interreflection: bool,
+    interreflection: bool,
     /// `ρ/π`.
     rho_pi: Vec3,
     /// `0.17 ρ²/π · σ²/(σ² + 0.13)` (0 without interreflection).
@@ -198,6 +216,24 @@ impl OrenNayarFull {
             c2_scale: 0.45 * k,
             c3_scale: 0.125 * k,
         }
+    }
+
+    /// Facet albedo ρ.
+    #[inline]
+    pub fn albedo(&self) -> Vec3 {
+        self.albedo
+    }
+
+    /// Roughness σ [rad].
+    #[inline]
+    pub fn sigma(&self) -> f32 {
+        self.sigma
+    }
+
+    /// Whether the interreflection term `L2` is included.
+    #[inline]
+    pub fn interreflection(&self) -> bool {
+        self.interreflection
     }
 }
 

@@ -27,11 +27,11 @@ use crate::{BrdfError, Geometry};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Phong {
     /// Diffuse reflectance `kd` (the diffuse albedo).
-    pub kd: Vec3,
+    kd: Vec3,
     /// Specular reflectance `ks` (the lobe's albedo at normal incidence).
-    pub ks: Vec3,
+    ks: Vec3,
     /// Phong exponent γ ≥ 0.
-    pub shininess: f32,
+    shininess: f32,
     /// `kd/π`, precomputed.
     diffuse: Vec3,
     /// `ks (γ+2)/(2π)`, precomputed.
@@ -42,6 +42,24 @@ impl Phong {
     /// Normalised Phong with diffuse `kd`, specular `ks` and exponent `shininess`.
     pub fn new(kd: Vec3, ks: Vec3, shininess: f32) -> Self {
         Self { kd, ks, shininess, diffuse: kd * FRAC_1_PI, specular: ks * ((shininess + 2.0) / (2.0 * PI)) }
+    }
+
+    /// Diffuse reflectance `kd` (the diffuse albedo).
+    #[inline]
+    pub fn kd(&self) -> Vec3 {
+        self.kd
+    }
+
+    /// Specular reflectance `ks` (the lobe's albedo at normal incidence).
+    #[inline]
+    pub fn ks(&self) -> Vec3 {
+        self.ks
+    }
+
+    /// Phong exponent γ ≥ 0.
+    #[inline]
+    pub fn shininess(&self) -> f32 {
+        self.shininess
     }
 }
 
