@@ -4,11 +4,24 @@
 
 pub mod ao;
 pub mod bvh;
+pub mod camera;
+pub mod clip;
 pub mod error;
+pub mod framebuffer;
 pub mod io;
 pub mod mesh;
 pub mod normals;
 pub mod procedural;
+pub mod render;
+pub mod scene;
+pub mod setup;
+pub mod shading;
+pub mod tiles;
 
+pub use camera::{Camera, Projection};
 pub use error::RasterError;
+pub use framebuffer::Frame;
 pub use mesh::Mesh;
+pub use render::{NoOcclusion, Occlusion, RenderOptions, ShadePoint, coverage_counts, render, render_with};
+pub use scene::{Instance, Material, Scene};
+pub use shading::ShadingMode;

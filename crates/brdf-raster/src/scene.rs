@@ -1,0 +1,184 @@
+//! What is rendered: mesh instances with materials and transforms, lights, ambient light, background.
+
+use std::sync::Arc;
+
+use brdf_core::Model;
+use brdf_core::lights::Light;
+use glam::{Mat3, Mat4, Vec3};
+
+use crate::{Mesh, RasterError};
+
+/// A surface's appearance in the Phong illumination model (seed 004, SPEC row 14):
+/// `L = emission + k_a ∘ I_a + Σ_j E_j ∘ shade(model; l_j, v, n)`, see
+/// [`brdf_core::illumination`]. Any registered reflectance model can be the material.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    /// The reflectance model whose `shade` is evaluated for every light.
+    pub model: Model,
+    /// Ambient reflectance `k_a` (linear RGB), multiplied by the scene's ambient light `I_a`.
+    pub ambient: Vec3,
+    /// Emitted radiance `I_e` (linear RGB), added unlit.
+    pub emission: Vec3,
+}
+
+impl Material {
+    /// A material with no ambient reflectance and no emission.
+    pub fn new(model: Model) -> Self {
+        Self { model, ambient: Vec3::ZERO, emission: Vec3::ZERO }
+    }
+
+    /// Set the ambient reflectance `k_a`.
+    pub fn with_ambient(mut self, ambient: Vec3) -> Self {
+        self.ambient = ambient;
+        self
+    }
+
+    /// Set the emission `I_e`.
+    pub fn with_emission(mut self, emission: Vec3) -> Self {
+        self.emission = emission;
+        self
+    }
+
+    fn validate(&self) -> Result<(), RasterError> {
+        for (name, c) in [("ambient", self.ambient), ("emission", self.emission)] {
+            if !c.is_finite() || c.min_element() < 0.0 {
+                return Err(RasterError::arg(name, format!("must be finite and ≥ 0, got {c}")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One mesh placed in the world with a material. Meshes are shared (`Arc`) between instances.
+#[derive(Debug, Clone)]
+pub struct Instance {
+    /// The mesh (object space).
+    pub mesh: Arc<Mesh>,
+    /// Its material.
+    pub material: Material,
+    /// Object → world transform (affine or projective; positions are divided by w). Normals are
+    /// transformed by the inverse transpose of its upper 3×3; a mirroring transform (negative
+    /// determinant) keeps the counter-clockwise side as the front.
+    pub transform: Mat4,
+}
+
+impl Instance {
+    /// The normal matrix: inverse transpose of the transform's upper 3×3.
+    pub fn normal_matrix(&self) -> Mat3 {
+        Mat3::from_mat4(self.transform).inverse().transpose()
+    }
+
+    /// Whether the transform mirrors (determinant of the upper 3×3 < 0).
+    pub fn mirrors(&self) -> bool {
+        Mat3::from_mat4(self.transform).determinant() < 0.0
+    }
+}
+
+/// A scene: instances, lights, the ambient light `I_a` and the background colour.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Mesh instances, drawn in this order (ties in depth keep the earlier one).
+    pub instances: Vec<Instance>,
+    /// Light sources.
+    pub lights: Vec<Light>,
+    /// Ambient light `I_a` (linear RGB).
+    pub ambient_light: Vec3,
+    /// Radiance of samples no triangle covers (linear RGB).
+    pub background: Vec3,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Scene {
+    /// An empty scene with white ambient light `I_a = 1` and a black background.
+    pub fn new() -> Self {
+        Self { instances: Vec::new(), lights: Vec::new(), ambient_light: Vec3::ONE, background: Vec3::ZERO }
+    }
+
+    /// Add a mesh instance; returns its index.
+    pub fn add(&mut self, mesh: Arc<Mesh>, material: Material, transform: Mat4) -> usize {
+        self.instances.push(Instance { mesh, material, transform });
+        self.instances.len() - 1
+    }
+
+    /// Add a light; returns its index (the index [`crate::render::Occlusion::visibility`] receives).
+    pub fn add_light(&mut self, light: Light) -> usize {
+        self.lights.push(light);
+        self.lights.len() - 1
+    }
+
+    /// Total number of faces over all instances.
+    pub fn face_count(&self) -> usize {
+        self.instances.iter().map(|i| i.mesh.indices.len()).sum()
+    }
+
+    /// Check everything a render relies on: finite invertible transforms, valid materials and lights,
+    /// finite colours, and at most `u32::MAX − 1` faces and vertices in total (ids fit `u32`).
+    pub fn validate(&self) -> Result<(), RasterError> {
+        for (k, inst) in self.instances.iter().enumerate() {
+            let m = inst.transform;
+            if !m.is_finite() {
+                return Err(RasterError::arg("transform", format!("instance {k}: not finite")));
+            }
+            let det = Mat3::from_mat4(m).determinant();
+            if !(det.abs() > 0.0) || !det.is_finite() {
+                return Err(RasterError::arg("transform", format!("instance {k}: singular (det {det})")));
+            }
+            inst.material.validate()?;
+        }
+        for (j, light) in self.lights.iter().enumerate() {
+            light.validate().map_err(|e| RasterError::arg("lights", format!("light {j}: {e}")))?;
+        }
+        for (name, c) in [("ambient_light", self.ambient_light), ("background", self.background)] {
+            if !c.is_finite() || c.min_element() < 0.0 {
+                return Err(RasterError::arg(name, format!("must be finite and ≥ 0, got {c}")));
+            }
+        }
+        let verts: usize = self.instances.iter().map(|i| i.mesh.positions.len()).sum();
+        if self.face_count() >= u32::MAX as usize || verts >= u32::MAX as usize {
+            return Err(RasterError::arg("scene", "more than 2^32 − 1 faces or vertices in total"));
+        }
+        Ok(())
+    }
+}
+
+/// The canonical benchmark scene of `/work/shared/bench/SCENE.md`: `icosphere(level)` at the origin
+/// with the classic Blinn-Phong material `kd = (0.8, 0.3, 0.2)`, `ks = 0.5`, `s = 32`, ambient
+/// `k_a = 0.05·kd` under `I_a = 1`; a directional light travelling along `(−1, −1, −1)` with `E = 1`
+/// and a point light at `(2, 2, 2)` with `I = 10` and inverse-square falloff; black background.
+pub fn canonical_scene(level: u32) -> Result<Scene, RasterError> {
+    use brdf_core::Input;
+    use brdf_core::lights::Attenuation;
+    let mesh = Arc::new(crate::procedural::icosphere(level)?);
+    let kd = Vec3::new(0.8, 0.3, 0.2);
+    let model = Model::build(
+        "blinn_phong_classic",
+        &[
+            ("kd".into(), Input::Numbers(vec![0.8, 0.3, 0.2])),
+            ("ks".into(), Input::Number(0.5)),
+            ("shininess".into(), Input::Number(32.0)),
+        ],
+    )?;
+    let mut scene = Scene::new();
+    scene.add(mesh, Material::new(model).with_ambient(0.05 * kd), Mat4::IDENTITY);
+    scene.add_light(Light::directional(Vec3::splat(-1.0), Vec3::ONE)?);
+    scene.add_light(Light::point(Vec3::splat(2.0), Vec3::splat(10.0), Attenuation::InverseSquare)?);
+    Ok(scene)
+}
+
+/// The camera of the canonical scene: eye (0, 0, 3), target 0, up +y, 45° vertical field of view,
+/// near 0.1, far 100 (SCENE.md).
+pub fn canonical_camera() -> crate::Camera {
+    crate::Camera {
+        eye: Vec3::new(0.0, 0.0, 3.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: crate::Projection::Perspective { fovy: std::f32::consts::FRAC_PI_4 },
+        near: 0.1,
+        far: 100.0,
+    }
+}
