@@ -37,7 +37,7 @@
 //! shared edge), the one with the smallest original triangle id. So the answer does not depend on the
 //! traversal order and equals a brute-force loop using [`intersect_triangle`] with the same rule.
 
-use glam::{Mat4, Vec3, Vec3A};
+use glam::{Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use crate::{Mesh, RasterError, mesh::MAX_ELEMENTS};
@@ -323,7 +323,12 @@ impl Bvh {
         Self::build_with(total, |f| {
             let (k, local) = find(f);
             let (m, xf) = &instances[k];
-            m.triangle(local).map(|p| xf.transform_point3(p))
+            // Projective transforms divide by w, as the renderer's vertex stage does.
+            if xf.row(3) == Vec4::W {
+                m.triangle(local).map(|p| xf.transform_point3(p))
+            } else {
+                m.triangle(local).map(|p| xf.project_point3(p))
+            }
         })
     }
 

@@ -12,6 +12,7 @@ pub mod io;
 pub mod mesh;
 pub mod normals;
 pub mod procedural;
+pub mod shadows;
 pub mod render;
 pub mod scene;
 pub mod setup;
