@@ -79,7 +79,9 @@ pub struct MeshStats {
     pub non_manifold_edges: usize,
     /// Edges shared by two triangles that traverse it in the same direction (orientation flips).
     pub inconsistent_edges: usize,
-    /// Edge-connected parts: triangles sharing an edge belong to the same part.
+    /// Edge-connected parts: triangles sharing a manifold edge (an edge of exactly two
+    /// triangles) belong to the same part; a non-manifold edge does not join parts. This is
+    /// trimesh's definition, the one `meshes.json` of the test assets uses.
     pub components: usize,
     /// Closed two-manifold: no boundary and no non-manifold edge.
     pub watertight: bool,
@@ -353,8 +355,10 @@ impl Mesh {
                 }
                 _ => non_manifold += 1,
             }
-            for w in run.windows(2) {
-                union(&mut parent, w[0].1, w[1].1);
+            // Only manifold edges connect parts (as in trimesh, and so in `meshes.json`): scans
+            // glued at a non-manifold edge count as separate parts.
+            if let [x, y] = run {
+                union(&mut parent, x.1, y.1);
             }
         }
         let components = (0..parent.len() as u32).filter(|&f| find(&mut parent, f) == f).count();

@@ -9,6 +9,7 @@
 //! weight of eq. 12.32. Degenerate input gives the zero vector, never NaN.
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 /// How face normals are weighted when averaged into a vertex normal (seed 004).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -119,21 +120,48 @@ fn contribution(face: Vec3, angle: impl FnOnce() -> f32, weighting: Weighting) -
 /// contributions cancel, gets the zero vector. Indices must be in range (a [`crate::Mesh`]
 /// guarantees it).
 ///
-/// The sum runs over faces in order on one thread, so the result is the same bits every time.
+/// The corner angles use `θ = atan2(|f⃗|, e₁·e₂)`, as [`corner_angle`] does, sharing the face's
+/// `|f⃗| = |e₁×e₂|` between its three corners. Face contributions are computed in parallel in
+/// chunks and summed into the vertices in face order on one thread, so the result is the same
+/// bits at any thread count.
 pub fn vertex_normals(positions: &[Vec3], indices: &[[u32; 3]], weighting: Weighting) -> Vec<Vec3> {
+    const CHUNK: usize = 1 << 16;
     let mut acc = vec![Vec3::ZERO; positions.len()];
-    for tri in indices {
-        let p = tri.map(|i| positions[i as usize]);
-        let face = triangle_normal(p[0], p[1], p[2]);
-        if face == Vec3::ZERO {
-            continue;
-        }
-        for k in 0..3 {
-            let w = contribution(face, || corner_angle(p[(k + 2) % 3], p[k], p[(k + 1) % 3]), weighting);
-            acc[tri[k] as usize] += w;
+    let mut contributions: Vec<[Vec3; 3]> = Vec::with_capacity(CHUNK.min(indices.len()));
+    for chunk in indices.chunks(CHUNK) {
+        chunk
+            .par_iter()
+            .with_min_len(4096)
+            .map(|tri| face_contributions(tri.map(|i| positions[i as usize]), weighting))
+            .collect_into_vec(&mut contributions);
+        for (tri, c) in chunk.iter().zip(&contributions) {
+            for k in 0..3 {
+                acc[tri[k] as usize] += c[k];
+            }
         }
     }
     acc.into_iter().map(Vec3::normalize_or_zero).collect()
+}
+
+/// What face `p` adds to each of its three corners' vertex normals.
+#[inline]
+fn face_contributions(p: [Vec3; 3], weighting: Weighting) -> [Vec3; 3] {
+    let face = triangle_normal(p[0], p[1], p[2]);
+    let length = face.length();
+    if length == 0.0 || !length.is_finite() {
+        return [Vec3::ZERO; 3];
+    }
+    let unit = face / length;
+    match weighting {
+        Weighting::Equal => [unit; 3],
+        Weighting::Area => [face; 3],
+        Weighting::Angle => {
+            let (a, b, c) = (p[1] - p[0], p[2] - p[1], p[0] - p[2]);
+            // Corner k's edges point to the other two corners; their cross product has length |f⃗|.
+            let dots = [-a.dot(c), -a.dot(b), -b.dot(c)];
+            dots.map(|d| unit * length.atan2(d))
+        }
+    }
 }
 
 /// Unit vertex normals of a mesh of arbitrary polygons (seed 004 eqs. 12.31–12.33), each face

@@ -79,6 +79,12 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
             return Err(format!("more than {MAX_ELEMENTS} triangles"));
         }
     }
+    if loaded.indices.is_empty() {
+        return Err(format!(
+            "has no faces: no 'f' line with 3 or more corners ({} skipped with fewer)",
+            loaded.faces_skipped
+        ));
+    }
     if let Some(i) = loaded.positions.iter().position(|p| !p.is_finite()) {
         return Err(format!(
             "vertex {i} (in order of first use) has a non-finite position {}",
