@@ -111,7 +111,7 @@ BAD_PARAMS: list[tuple[str, str, Any]] = [
     ("lambert", "albedo", [0.1, float("nan"), 0.2]),
     ("phong", "shininess", -1.0),
     ("blinn_phong", "normalization", "none-such"),
-    ("ward", "alpha_x", 0.0),
+    ("ward", "alpha_x", -0.01),
     ("ward", "alpha_y", -0.3),
     ("ashikhmin_shirley", "nu", -5.0),
     ("lafortune", "lobes", [[1.0, 1.0, 1.0]]),

@@ -25,9 +25,10 @@ def reinhard(x: ArrayLike) -> F64:
 
 
 def reinhard_extended(x: ArrayLike, white: float) -> F64:
-    """Reinhard 2002 eq. 4: ``x (1 + x/white^2) / (1 + x)``; maps ``white`` to exactly 1."""
+    """Reinhard 2002 eq. 4: ``x (1 + x/white^2) / (1 + x)``; maps ``white`` to exactly 1, and what is
+    brighter burns out to 1 ("L_white is the smallest luminance mapped to pure white")."""
     x = np.maximum(np.asarray(x, dtype=np.float64), 0.0)
-    return x * (1.0 + x / (white * white)) / (1.0 + x)
+    return np.minimum(x * (1.0 + x / (white * white)) / (1.0 + x), 1.0)
 
 
 def aces(x: ArrayLike) -> F64:
