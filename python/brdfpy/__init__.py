@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-from brdfpy import vectors
+from brdfpy import checks, tonemap, vectors
 from brdfpy._brdfpy import BrdfError, __version__, get_num_threads, set_num_threads
 from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
 from brdfpy.models import Model, ModelInfo, ParamInfo, model, model_info, models
@@ -26,11 +26,13 @@ __all__ = [
     "ModelInfo",
     "ParamInfo",
     "__version__",
+    "checks",
     "get_num_threads",
     "model",
     "model_info",
     "models",
     "set_num_threads",
+    "tonemap",
     "vectors",
 ]
 

@@ -6,9 +6,11 @@
 use pyo3::prelude::*;
 
 mod arrays;
+mod checks;
 mod errors;
 mod models;
 mod threads;
+mod tonemap;
 mod vectors;
 
 /// The compiled module `brdfpy._brdfpy`; the public API is re-exported by `brdfpy/__init__.py`.
@@ -17,9 +19,16 @@ mod _brdfpy {
     use pyo3::prelude::*;
 
     #[pymodule_export]
+    use super::checks::{check, directional_albedo, positivity, reciprocity_error};
+    #[pymodule_export]
     use super::models::{Model, model_names, model_spec};
     #[pymodule_export]
     use super::threads::{_reset_after_fork, get_num_threads, set_num_threads};
+    #[pymodule_export]
+    use super::tonemap::{
+        aces, clamp, exposure, reinhard, reinhard_extended, srgb_decode, srgb_encode, to_uint8,
+        tonemap_operators,
+    };
     #[pymodule_export]
     use super::vectors::{halfway, reflect, refract};
 

@@ -149,3 +149,13 @@ pub fn fill<T: Send>(
     };
     result.map_err(RowError::into_py)
 }
+
+/// Run `f` on the pool with the GIL released (for core functions that split their own work with rayon,
+/// such as the BRDF checks); inline when `len` is small.
+pub fn run<T: Send>(py: Python<'_>, len: usize, f: impl FnOnce() -> T + Send) -> PyResult<T> {
+    if len < DETACH_MIN {
+        return Ok(f());
+    }
+    let pool = pool()?;
+    Ok(py.detach(|| pool.install(f)))
+}

@@ -1,0 +1,104 @@
+//! `brdfpy.checks`: the BRDF properties of SPEC row 19 as functions a user can call on any model
+//! (positivity, Helmholtz reciprocity, directional albedo by quadrature, a summary). Thin wrappers over
+//! `brdf_core::properties`, which is deterministic for any thread count.
+
+use brdf_core::properties::{self as props, Quadrature};
+use numpy::{PyArray2, PyArrayMethods, PyReadonlyArrayDyn};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::flat_view;
+use crate::errors::{invalid, to_py};
+use crate::models::Model;
+use crate::threads::run;
+
+/// The largest number of random configurations a check accepts (about a minute of work).
+pub const MAX_SAMPLES: i64 = 100_000_000;
+
+fn samples(n: i64) -> PyResult<usize> {
+    if (1..=MAX_SAMPLES).contains(&n) {
+        Ok(n as usize)
+    } else {
+        Err(invalid(format!("n: expected an integer in [1, {MAX_SAMPLES}], got {n}")))
+    }
+}
+
+fn seed(s: i64) -> PyResult<u64> {
+    u64::try_from(s).map_err(|_| invalid(format!("seed: expected an integer >= 0, got {s}")))
+}
+
+/// Smallest channel of `f_r` over `n` random configurations (seeded): ≥ 0 for a valid BRDF; NaN if the
+/// model returned a non-finite value.
+#[pyfunction]
+#[pyo3(signature = (model, n=10_000, seed=0))]
+pub fn positivity(py: Python<'_>, model: &Bound<'_, Model>, n: i64, seed: i64) -> PyResult<f32> {
+    let (n, s, m) = (samples(n)?, self::seed(seed)?, model.get().core());
+    run(py, n, || props::positivity(m, n, s))
+}
+
+/// `max |f(l,v) − f(v,l)| / max(|f(l,v)|, |f(v,l)|, 1e-6)` over `n` random configurations (seeded).
+#[pyfunction]
+#[pyo3(signature = (model, n=10_000, seed=0))]
+pub fn reciprocity_error(py: Python<'_>, model: &Bound<'_, Model>, n: i64, seed: i64) -> PyResult<f32> {
+    let (n, s, m) = (samples(n)?, self::seed(seed)?, model.get().core());
+    run(py, n, || props::reciprocity_error(m, n, s))
+}
+
+/// Directional albedo `ρ(v) = ∫ f_r(l, v) cos θ_l dω_l` per channel at each view cosine, `(K, 3)`.
+#[pyfunction]
+#[pyo3(signature = (model, cos_theta_v, theta_order=8, phi_order=8, min_panel=1e-4))]
+pub fn directional_albedo<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, Model>,
+    cos_theta_v: PyReadonlyArrayDyn<'py, f32>,
+    theta_order: i64,
+    phi_order: i64,
+    min_panel: f64,
+) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    let cs = flat_view("cos_theta_v", &cos_theta_v)?;
+    if cs.is_empty() {
+        return Err(invalid("cos_theta_v: is empty"));
+    }
+    if let Some(i) = cs.iter().position(|c| !(*c >= 0.0 && *c <= 1.0)) {
+        return Err(invalid(format!("cos_theta_v: values must lie in [0, 1], got {} at index {i}", cs[i])));
+    }
+    let order = |name: &str, k: i64| {
+        usize::try_from(k).map_err(|_| invalid(format!("{name}: must be in [1, 64], got {k}")))
+    };
+    let q = Quadrature {
+        theta_order: order("theta_order", theta_order)?,
+        phi_order: order("phi_order", phi_order)?,
+        min_panel,
+    };
+    q.validate().map_err(to_py)?;
+    let m = model.get().core();
+    // Every albedo costs up to ~10^5 evaluations: always worth releasing the GIL.
+    let albedo = run(py, usize::MAX, || props::directional_albedos(m, cs, &q))?.map_err(to_py)?;
+    let out = PyArray2::<f32>::zeros(py, [albedo.len(), 3], false);
+    {
+        let mut w = out.readwrite();
+        let o = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        o.copy_from_slice(bytemuck::cast_slice(&albedo));
+    }
+    Ok(out)
+}
+
+/// All checks with fixed settings (seed 0, 10 000 configurations, albedo at six view cosines), as a dict.
+#[pyfunction]
+pub fn check<'py>(py: Python<'py>, model: &Bound<'py, Model>) -> PyResult<Bound<'py, PyDict>> {
+    let m = model.get().core();
+    let r = run(py, usize::MAX, || props::check(m))?;
+    let d = PyDict::new(py);
+    d.set_item("model", r.model)?;
+    d.set_item("physical", r.physical)?;
+    d.set_item("min_value", r.min_value)?;
+    d.set_item("reciprocity_error", r.reciprocity_error)?;
+    d.set_item("cos_theta_v", r.cos_theta_v)?;
+    d.set_item("albedo", r.albedo.iter().map(|a| a.to_array()).collect::<Vec<_>>())?;
+    d.set_item("max_albedo", r.max_albedo)?;
+    d.set_item("positive", r.positive)?;
+    d.set_item("reciprocal", r.reciprocal)?;
+    d.set_item("energy_conserving", r.energy_conserving)?;
+    Ok(d)
+}

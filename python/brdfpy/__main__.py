@@ -1,0 +1,5 @@
+"""``python -m brdfpy``: the same as the ``brdfpy`` command."""
+
+from brdfpy.cli import main
+
+raise SystemExit(main())
