@@ -294,17 +294,30 @@ fn v_groove_and_kelemen_limits() {
 fn registry_names_build_each_distribution_with_its_native_parameters() {
     assert_eq!(Distribution::from_name("GGX", 0.2, None).unwrap(), Distribution::ggx(0.2));
     assert_eq!(Distribution::from_name("ward", 0.1, Some(0.3)).unwrap(), Distribution::ward(0.1, 0.3));
-    assert_eq!(Distribution::from_name("blinn_phong", 50.0, None).unwrap(), Distribution::blinn_phong(50.0));
-    assert!(Distribution::from_name("blinn_phong", 50.0, Some(10.0)).is_err());
-    assert!(Distribution::from_name("ggx", -0.1, None).is_err());
-    assert!(Distribution::from_name("ggx", f32::NAN, None).is_err());
-    assert!(Distribution::from_name("phong", 0.1, None).is_err());
-    // Roughness 0.3 → Blinn-Phong exponent 2/0.09 − 2 (Walter et al. 2007).
-    let Distribution::BlinnPhong { exponent } = Distribution::from_roughness("blinn_phong", 0.3).unwrap()
+    // Blinn-Phong takes a roughness here, mapped to the exponent 2/α² − 2 (Walter et al. 2007).
+    let Distribution::BlinnPhong { exponent } = Distribution::from_name("blinn_phong", 0.3, None).unwrap()
     else {
         panic!()
     };
     assert!((exponent - (2.0 / 0.09 - 2.0)).abs() < 1e-3);
+    assert_eq!(
+        Distribution::from_roughness("blinn_phong", 0.3).unwrap(),
+        Distribution::blinn_phong(exponent)
+    );
+    assert_eq!(
+        Distribution::from_name("ashikhmin_shirley", 100.0, Some(10.0)).unwrap(),
+        Distribution::ashikhmin_shirley(100.0, 10.0)
+    );
+    assert!(Distribution::from_name("blinn_phong", 0.3, Some(0.1)).is_err());
+    for bad in [-0.1f32, 0.0, f32::NAN, f32::INFINITY] {
+        let e = Distribution::from_name("ggx", bad, None).unwrap_err().to_string();
+        assert!(e.contains("alpha"), "{e}");
+    }
+    assert!(Distribution::from_name("ggx", 0.3, Some(-1.0)).unwrap_err().to_string().contains("alpha_y"));
+    assert!(Distribution::from_name("phong", 0.1, None).unwrap_err().to_string().contains("phong"));
+    // Models may ask for roughness 0: it is floored, not refused.
+    assert_eq!(Distribution::from_roughness("ggx", 0.0).unwrap(), Distribution::ggx(1e-4));
+    assert!(Distribution::from_roughness("ggx", -1.0).is_err());
     // The floor: α = 0 is raised to 1e-4 and stays finite at the peak.
     assert!(Distribution::ggx(0.0).d(Vec3A::Z).is_finite());
 }

@@ -413,7 +413,6 @@ fn strauss_follows_its_formula_and_limits() {
             }
         }
     }
-    assert_eq!(metal.ambient(), metal.ambient());
     assert!((Strauss::new(c, 0.5, 0.0, 0.4).opacity() - 0.6).abs() < 1e-7);
     assert!((Strauss::new(c, 0.5, 0.0, 0.0).ambient() - (1.0 - 0.125) * c).abs().max_element() < 1e-6);
 }

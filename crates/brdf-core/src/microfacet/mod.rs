@@ -122,37 +122,47 @@ impl Distribution {
         Distribution::AshikhminShirley { nu: clamp_exponent(nu), nv: clamp_exponent(nv) }
     }
 
-    /// Build by name with each distribution's *native* parameters: α (RMS slope / roughness) for
-    /// `beckmann`, `ggx`, `ward`; m [rad] for `gaussian`; the exponent for `blinn_phong`;
-    /// (nu, nv) for `ashikhmin_shirley`. `a_y` is the second (bitangent) parameter of the anisotropic
-    /// ones (default `a`); it is refused for the isotropic ones if it differs from `a`.
-    pub fn from_name(name: &str, a: f32, a_y: Option<f32>) -> Result<Self, BrdfError> {
+    /// Build by name from a roughness, as `brdfpy.microfacet.distribution(name, h, n, alpha,
+    /// alpha_y=…)` does: `alpha` (and `alpha_y`, bitangent direction, default `alpha`) is the RMS
+    /// slope / roughness α > 0 of `beckmann`, `ggx`, `ward`, the RMS slope angle m [rad] of
+    /// `gaussian`, and is mapped to the Blinn–Phong exponent `2/α² − 2` for `blinn_phong`
+    /// (Walter et al. 2007 §5.2). For `ashikhmin_shirley` they are the exponents nu, nv ≥ 0 (that
+    /// distribution has no roughness). Errors name the argument: α ≤ 0 or non-finite, `alpha_y` on
+    /// an isotropic distribution, an unknown name. For the native parameters use the constructors
+    /// ([`Distribution::blinn_phong`] takes the exponent).
+    pub fn from_name(name: &str, alpha: f32, alpha_y: Option<f32>) -> Result<Self, BrdfError> {
+        let key = name.to_ascii_lowercase();
+        let exponents = key == "ashikhmin_shirley";
         let check = |arg: &str, x: f32| {
-            if x.is_finite() && x >= 0.0 {
-                Ok(x)
+            if !x.is_finite() || x < 0.0 || (x == 0.0 && !exponents) {
+                let want = if exponents { ">= 0" } else { "> 0" };
+                Err(BrdfError::param(arg, format!("must be finite and {want}, got {x}")))
             } else {
-                Err(BrdfError::param(arg, format!("must be finite and >= 0, got {x}")))
+                Ok(x)
             }
         };
-        let a = check("alpha", a)?;
-        let ay = check("alpha_y", a_y.unwrap_or(a))?;
+        let a = check("alpha", alpha)?;
+        let ay = match alpha_y {
+            Some(y) => check("alpha_y", y)?,
+            None => a,
+        };
         let isotropic_only = |d: Self| {
             if ay == a {
                 Ok(d)
             } else {
                 Err(BrdfError::param(
                     "alpha_y",
-                    format!("distribution {name:?} is isotropic; alpha_y must be omitted"),
+                    format!("distribution {name:?} is isotropic; alpha_y must be omitted or equal alpha"),
                 ))
             }
         };
-        match name.to_ascii_lowercase().as_str() {
+        match key.as_str() {
             "beckmann" => Ok(Self::beckmann_aniso(a, ay)),
             "ggx" | "trowbridge_reitz" => Ok(Self::ggx_aniso(a, ay)),
             "ward" => Ok(Self::ward(a, ay)),
             "ashikhmin_shirley" => Ok(Self::ashikhmin_shirley(a, ay)),
             "gaussian" => isotropic_only(Self::gaussian(a)),
-            "blinn_phong" => isotropic_only(Self::blinn_phong(a)),
+            "blinn_phong" => isotropic_only(Self::blinn_phong(blinn_phong::exponent_from_alpha(a))),
             _ => Err(BrdfError::param(
                 "distribution",
                 format!("expected one of {}, got {name:?}", DISTRIBUTION_NAMES.join(", ")),
@@ -160,23 +170,20 @@ impl Distribution {
         }
     }
 
-    /// Build an isotropic distribution by name from one roughness α, mapped to each distribution's
-    /// native parameter: α itself for `beckmann`, `ggx`, `ward`; m = α for `gaussian`; the Walter et al.
-    /// 2007 exponent `2/α² − 2` for `blinn_phong` and `ashikhmin_shirley`. This is what the
-    /// Cook–Torrance model's single `roughness` means for each choice.
+    /// Build an isotropic distribution by name from one roughness α ≥ 0 (0 is raised to
+    /// [`ALPHA_MIN`]), with the meaning of [`Distribution::from_name`]; `ashikhmin_shirley` gets the
+    /// exponent `2/α² − 2` like `blinn_phong`. This is what the Cook–Torrance model's single
+    /// `roughness` means for each choice.
     pub fn from_roughness(name: &str, alpha: f32) -> Result<Self, BrdfError> {
+        if !(alpha.is_finite() && alpha >= 0.0) {
+            return Err(BrdfError::param("roughness", format!("must be finite and >= 0, got {alpha}")));
+        }
         match name.to_ascii_lowercase().as_str() {
-            "blinn_phong" | "ashikhmin_shirley" => {
-                if !(alpha.is_finite() && alpha >= 0.0) {
-                    return Err(BrdfError::param(
-                        "roughness",
-                        format!("must be finite and >= 0, got {alpha}"),
-                    ));
-                }
+            "ashikhmin_shirley" => {
                 let e = blinn_phong::exponent_from_alpha(alpha);
-                Self::from_name(name, e, None)
+                Ok(Self::ashikhmin_shirley(e, e))
             }
-            _ => Self::from_name(name, alpha, None),
+            _ => Self::from_name(name, alpha.max(ALPHA_MIN), None),
         }
     }
 
