@@ -75,6 +75,8 @@ CT_CASES: list[dict[str, Any]] = [
     {"fresnel": "conductor", "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2]},
     {"fresnel": "schlick", "f0": [0.95, 0.64, 0.54]},
     {"fresnel": "schlick", "metal": "au"},
+    {"fresnel": "color_shift", "f0": [0.1, 0.5, 0.3]},
+    {"fresnel": "color_shift", "f0": [0.95, 0.64, 0.54], "distribution": "beckmann"},
     {"fresnel": "none", "kd": [0.3, 0.2, 0.1]},
     {"distribution": "beckmann", "masking": "v_groove", "weight2": 0.3, "roughness2": 0.6},
     {"distribution": "ggx", "masking": "kelemen", "weight2": 0.5, "roughness2": 0.1},

@@ -302,6 +302,14 @@ def cook_torrance(
         f = np.repeat(fr.dielectric(c, ior)[..., None], 3, axis=-1)
     elif fresnel == "conductor":
         f = fr.conductor(c[..., None], color(eta), color(k))
+    elif fresnel == "color_shift":
+        # Cook & Torrance's colour shift (seed 004 "Cook-Torrance (15)"; seed 001): the angular shape comes
+        # from the exact Fresnel of one reference wavelength; brdfpy's convention takes the mean of the
+        # three F0 channels as that reference, with eta_ref = ior_from_f0(F0_ref). c0 = F0, c90 = 1.
+        f0c = color(f0)
+        ref = float(np.mean(f0c))
+        f_ref = fr.dielectric(c, fr.ior_from_f0(ref))
+        f = fr.color_shift(f_ref[..., None], ref, f0c, 1.0)
     else:
         raise NotImplementedError(f"oracle: fresnel {fresnel!r}")
     with np.errstate(divide="ignore", invalid="ignore"):
