@@ -288,13 +288,14 @@ impl Mesh {
     /// winding of every face is reversed too, so faces stay counter-clockwise seen from the side
     /// the normals point to (a GPU would need `glFrontFace(GL_CW)` instead). Colors are kept.
     ///
-    /// Errors: `m` is not finite, not affine (last row ≠ 0 0 0 1), singular, or maps a vertex to
-    /// a non-finite position.
+    /// Errors: `m` is not finite, not affine (last row ≠ 0 0 0 1 within 10⁻⁶; within it the last
+    /// row is ignored), singular, or maps a vertex to a non-finite position.
     pub fn transformed(&self, m: &Mat4) -> Result<Mesh, RasterError> {
         if !m.is_finite() {
             return Err(RasterError::arg("transform", "has a non-finite entry"));
         }
-        if m.row(3) != Vec4::W {
+        // Same tolerance as glam's own affine assertion in `transform_point3`.
+        if !m.row(3).abs_diff_eq(Vec4::W, 1e-6) {
             return Err(RasterError::arg(
                 "transform",
                 format!("must be affine (last row 0 0 0 1), got {}", m.row(3)),

@@ -542,6 +542,11 @@ fn load_mesh_reports_missing_files_and_unknown_types() {
     assert_eq!(MeshFormat::from_path(Path::new("a.Ply")), Some(MeshFormat::Ply));
     let problem = file_problem(load_mesh(&dir));
     assert!(problem.contains("cannot read"), "a directory: {problem}");
+    #[cfg(unix)]
+    {
+        let problem = file_problem(load_mesh("/dev/zero"));
+        assert!(problem.contains("not a regular file"), "a device that never ends: {problem}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -21,6 +21,10 @@ use glam::Vec3;
 
 use crate::{Mesh, RasterError};
 
+/// Largest mesh file read (16 GiB): beyond any mesh of [`crate::mesh::MAX_ELEMENTS`] triangles
+/// in a binary format, and a bound on memory for the text formats.
+pub const MAX_FILE_BYTES: u64 = 1 << 34;
+
 /// A file format [`load_mesh_bytes`] can read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum MeshFormat {
@@ -80,6 +84,17 @@ pub fn load_mesh_with_info(path: impl AsRef<Path>) -> Result<LoadedMesh, RasterE
     let path = path.as_ref();
     let name = path.display().to_string();
     let file_error = |problem: String| RasterError::File { path: name.clone(), problem };
+    // Only regular files: reading a device such as /dev/zero or a FIFO would never end.
+    let metadata = std::fs::metadata(path).map_err(|e| file_error(format!("cannot read the file: {e}")))?;
+    if !metadata.is_file() {
+        return Err(file_error("cannot read the file: not a regular file".into()));
+    }
+    if metadata.len() > MAX_FILE_BYTES {
+        return Err(file_error(format!(
+            "the file has {} bytes, more than the limit of {MAX_FILE_BYTES}",
+            metadata.len()
+        )));
+    }
     let bytes = std::fs::read(path).map_err(|e| file_error(format!("cannot read the file: {e}")))?;
     let format = match MeshFormat::from_path(path) {
         Some(format) => format,
