@@ -76,6 +76,20 @@ pub fn newell_normal(polygon: &[Vec3]) -> Vec3 {
 ///
 /// Normalising each corner normal first gives every corner equal weight. Degenerate corners
 /// (collinear edges) contribute nothing; a fully degenerate polygon gives zero.
+///
+/// Seed 004's worked example (the quad (0,0,0), (1,0,0), (1,1,0), (0,1,0.5)) prints the corner
+/// normal at v₄ as (0.25, −0.5, 1); the cross product (0,−1,−0.5) × (1,0,−0.5) is (0.5, −0.5, 1),
+/// so the seed's average is off. The correct average, ≈ (0.225, −0.225, 0.948), has n_x = −n_y
+/// as the quad's mirror symmetry demands (tests/mesh.rs checks this).
+///
+/// ```
+/// use brdf_raster::normals::{corner_average_normal, newell_normal};
+/// use glam::Vec3;
+/// let quad = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.5)];
+/// assert_eq!(newell_normal(&quad), Vec3::new(0.5, -0.5, 2.0));
+/// let n = corner_average_normal(&quad);
+/// assert!((n.x + n.y).abs() < 1e-6 && n.dot(newell_normal(&quad).normalize()) > 0.999);
+/// ```
 pub fn corner_average_normal(polygon: &[Vec3]) -> Vec3 {
     let count = polygon.len();
     if count < 3 {

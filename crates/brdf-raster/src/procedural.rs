@@ -30,6 +30,13 @@ const MAX_GRID_VERTICES: usize = 1 << 26;
 /// by a counting sort on their smaller index, with no hashing.
 ///
 /// Errors: `level > MAX_ICOSPHERE_LEVEL`.
+///
+/// ```
+/// let sphere = brdf_raster::procedural::icosphere(5)?;
+/// assert_eq!((sphere.triangle_count(), sphere.vertex_count()), (20_480, 10_242));
+/// assert!(sphere.signed_volume() > 0.0); // CCW seen from outside
+/// # Ok::<(), brdf_raster::RasterError>(())
+/// ```
 pub fn icosphere(level: u32) -> Result<Mesh, RasterError> {
     if level > MAX_ICOSPHERE_LEVEL {
         return Err(RasterError::arg(

@@ -155,6 +155,12 @@ pub const BUILTIN_MESHES: &[&str] = &["cow", "fandisk"];
 /// weighting (the files have none).
 ///
 /// Errors: an unknown name (the message lists the known ones).
+///
+/// ```
+/// let cow = brdf_raster::io::builtin_mesh("cow")?;
+/// assert_eq!(cow.triangle_count(), 5804);
+/// # Ok::<(), brdf_raster::RasterError>(())
+/// ```
 pub fn builtin_mesh(name: &str) -> Result<Mesh, RasterError> {
     let bytes: &[u8] = match name {
         "cow" => include_bytes!("../../assets/garland_cow.ply"),
