@@ -71,12 +71,15 @@ pub struct AoOptions {
     pub seed: u64,
     /// In a render: estimate `w` at every shading point (true) or per vertex, interpolated (false).
     pub per_pixel: bool,
+    /// In a render: eq. 12.75's combined mode — the lights' diffuse irradiance `I_d(p)` joins the
+    /// ambient term, `[k_a I_a + k_d I_d(p)]·w(p)` (see [`crate::occlusion`]); false: `k_a I_a·w(p)` only.
+    pub combined: bool,
 }
 
 impl Default for AoOptions {
-    /// τ = 2, `d_max` = 1, 64 samples, seed 0, per vertex.
+    /// τ = 2, `d_max` = 1, 64 samples, seed 0, per vertex, ambient only.
     fn default() -> Self {
-        Self { tau: 2.0, d_max: 1.0, samples: 64, seed: 0, per_pixel: false }
+        Self { tau: 2.0, d_max: 1.0, samples: 64, seed: 0, per_pixel: false, combined: false }
     }
 }
 
@@ -111,11 +114,9 @@ pub fn mu(d: f32, tau: f32, d_max: f32) -> f32 {
     ((-tau * d.max(0.0) / d_max).exp_m1() / (-tau).exp_m1()).clamp(0.0, 1.0)
 }
 
-/// A validated obscurance estimator bound to a scene: the BVH, the options, the sample pattern and the
-/// ray offset, computed once and shared by every point.
+/// The scene-independent part of the estimator: options, sample pattern, normalisation and offset.
 #[derive(Debug, Clone)]
-pub struct Obscurance<'a> {
-    bvh: &'a Bvh,
+pub(crate) struct Sampler {
     opts: AoOptions,
     /// Hammersley points `(k/S, Φ₂(k))`.
     pattern: Vec<[f32; 2]>,
@@ -124,29 +125,18 @@ pub struct Obscurance<'a> {
     offset: f32,
 }
 
-impl<'a> Obscurance<'a> {
-    /// Validate `opts` and prepare the estimator over `bvh`.
-    pub fn new(bvh: &'a Bvh, opts: &AoOptions) -> Result<Self, RasterError> {
+impl Sampler {
+    /// Validate `opts` and prepare the pattern; the offset follows the scale of `bvh`.
+    pub(crate) fn new(bvh: &Bvh, opts: &AoOptions) -> Result<Self, RasterError> {
         opts.validate()?;
         let s = opts.samples;
         let pattern = (0..s).map(|k| [k as f32 / s as f32, radical_inverse_2(k)]).collect();
         let offset = (bvh.coordinate_scale() * (1.0 / 65536.0)).max(1e-4 * opts.d_max);
-        Ok(Self { bvh, opts: *opts, pattern, inv_norm: 1.0 / (-opts.tau).exp_m1(), offset })
+        Ok(Self { opts: *opts, pattern, inv_norm: 1.0 / (-opts.tau).exp_m1(), offset })
     }
 
-    /// The options in use.
-    pub fn options(&self) -> &AoOptions {
-        &self.opts
-    }
-
-    /// The self-intersection offset ε along the normal (see the module docs), world units.
-    pub fn offset(&self) -> f32 {
-        self.offset
-    }
-
-    /// `w(p)` for a point `p` with unit normal `n`, its sample pattern rotated by a hash of
-    /// `(seed, key)` (use a vertex index, a pixel index, …). Returns 1 for a zero or non-finite normal.
-    pub fn at(&self, p: Vec3, n: Vec3, key: u64) -> f32 {
+    /// `w(p)` against `bvh` (the one the sampler was made for); see [`Obscurance::at`].
+    pub(crate) fn at(&self, bvh: &Bvh, p: Vec3, n: Vec3, key: u64) -> f32 {
         let n = Vec3A::from(n);
         let len2 = n.length_squared();
         if !(len2 > 0.0) || !len2.is_finite() || !p.is_finite() {
@@ -165,13 +155,44 @@ impl<'a> Obscurance<'a> {
             let z = (1.0 - u1).max(0.0).sqrt();
             let dir = t * (r * cos_phi) + b * (r * sin_phi) + n * z;
             let ray = Ray::segment(origin.into(), dir.into(), 0.0, d_max);
-            sum += match self.bvh.closest_hit(&ray) {
+            sum += match bvh.closest_hit(&ray) {
                 // μ(d) for d < d_max, written out to reuse the precomputed normalisation.
                 Some(h) => ((-tau * h.t / d_max).exp_m1() * self.inv_norm).clamp(0.0, 1.0),
                 None => 1.0,
             };
         }
         sum / self.pattern.len() as f32
+    }
+}
+
+/// A validated obscurance estimator bound to a scene: the BVH, the options, the sample pattern and the
+/// ray offset, computed once and shared by every point.
+#[derive(Debug, Clone)]
+pub struct Obscurance<'a> {
+    bvh: &'a Bvh,
+    sampler: Sampler,
+}
+
+impl<'a> Obscurance<'a> {
+    /// Validate `opts` and prepare the estimator over `bvh`.
+    pub fn new(bvh: &'a Bvh, opts: &AoOptions) -> Result<Self, RasterError> {
+        Ok(Self { bvh, sampler: Sampler::new(bvh, opts)? })
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &AoOptions {
+        &self.sampler.opts
+    }
+
+    /// The self-intersection offset ε along the normal (see the module docs), world units.
+    pub fn offset(&self) -> f32 {
+        self.sampler.offset
+    }
+
+    /// `w(p)` for a point `p` with unit normal `n`, its sample pattern rotated by a hash of
+    /// `(seed, key)` (use a vertex index, a pixel index, …). Returns 1 for a zero or non-finite normal.
+    pub fn at(&self, p: Vec3, n: Vec3, key: u64) -> f32 {
+        self.sampler.at(self.bvh, p, n, key)
     }
 
     /// `w` at many points in parallel; point `i` uses key `i` (deterministic at any thread count).

@@ -332,6 +332,32 @@ impl Bvh {
         })
     }
 
+    /// Build over several indexed triangle lists already in world space, `(positions, indices)` each.
+    /// Triangle ids run through the parts in order, as in [`Bvh::from_instances`].
+    pub fn from_parts(parts: &[(&[Vec3], &[[u32; 3]])]) -> Result<Self, RasterError> {
+        let mut starts = Vec::with_capacity(parts.len());
+        let mut acc = 0usize;
+        for (k, (p, ix)) in parts.iter().enumerate() {
+            if let Some((f, &i)) = ix
+                .iter()
+                .enumerate()
+                .find_map(|(f, t)| t.iter().find(|&&i| i as usize >= p.len()).map(|i| (f, i)))
+            {
+                return Err(RasterError::InvalidMesh(format!(
+                    "part {k}: face {f} indexes vertex {i}, but there are only {} vertices",
+                    p.len()
+                )));
+            }
+            starts.push(acc);
+            acc += ix.len();
+        }
+        Self::build_with(acc, |f| {
+            let k = starts.partition_point(|&s| s <= f) - 1;
+            let (p, ix) = parts[k];
+            ix[f - starts[k]].map(|i| p[i as usize])
+        })
+    }
+
     fn build_with(n: usize, tri: impl Fn(usize) -> [Vec3; 3] + Sync) -> Result<Self, RasterError> {
         if n > MAX_ELEMENTS {
             return Err(RasterError::InvalidMesh(format!(

@@ -11,6 +11,7 @@ pub mod framebuffer;
 pub mod io;
 pub mod mesh;
 pub mod normals;
+pub mod occlusion;
 pub mod procedural;
 pub mod shadows;
 pub mod render;

@@ -29,9 +29,11 @@ use glam::{Mat3, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use crate::RasterError;
+use crate::ao::AoOptions;
 use crate::camera::Camera;
 use crate::clip::{ClipVertex, GuardBand, clip_triangle, code};
 use crate::framebuffer::{BandOut, BandScratch, Frame, resolve_band};
+use crate::occlusion::SceneOcclusion;
 use crate::scene::Scene;
 use crate::setup::{Culling, SetupVertex, Viewport, setup_triangle};
 use crate::shading::{ShadingMode, face_normal, linear_normal, quadratic_normal};
@@ -63,6 +65,11 @@ pub struct RenderOptions {
     pub tonemap: Operator,
     /// Exposure in stops of [`Frame::to_rgb8`].
     pub exposure: f32,
+    /// Ambient obscurance (seed 004 eq. 12.72) weighting the ambient term, per vertex or per pixel;
+    /// `None`: off. Used by [`render`] (see [`crate::occlusion::SceneOcclusion`]).
+    pub ao: Option<AoOptions>,
+    /// Light visibility δ by shadow rays (seed 004 eq. 12.75). Used by [`render`].
+    pub shadows: bool,
 }
 
 impl RenderOptions {
@@ -76,6 +83,8 @@ impl RenderOptions {
             samples_per_pixel: 1,
             tonemap: Operator::Clamp,
             exposure: 0.0,
+            ao: None,
+            shadows: false,
         }
     }
 
@@ -118,6 +127,9 @@ impl RenderOptions {
         if !self.exposure.is_finite() {
             return Err(RasterError::arg("exposure", format!("must be finite, got {}", self.exposure)));
         }
+        if let Some(ao) = &self.ao {
+            ao.validate()?;
+        }
         Ok(())
     }
 }
@@ -150,6 +162,12 @@ pub trait Occlusion: Sync {
     fn visibility(&self, _at: &ShadePoint, _light: usize, _incident: &Incident) -> f32 {
         1.0
     }
+    /// Extra ambient-like radiance at the point, given its obscurance `w` (linear RGB, tinted by vertex
+    /// colours like the rest): eq. 12.75's `k_d ∘ I_d(p) · w(p)` in the combined mode of
+    /// [`crate::occlusion::SceneOcclusion`]. None by default.
+    fn indirect(&self, _at: &ShadePoint, _w: f32) -> Vec3 {
+        Vec3::ZERO
+    }
 }
 
 /// No occlusion: `w = δ = 1` everywhere.
@@ -158,8 +176,14 @@ pub struct NoOcclusion;
 
 impl Occlusion for NoOcclusion {}
 
-/// Render `scene` through `camera` (no ambient occlusion or shadows).
+/// Render `scene` through `camera`, with the obscurance and shadows that `options.ao` and
+/// `options.shadows` ask for ([`crate::occlusion::SceneOcclusion`]).
 pub fn render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result<Frame, RasterError> {
+    if options.ao.is_some() || options.shadows {
+        options.validate()?;
+        let occlusion = SceneOcclusion::new(scene, options.ao, options.shadows)?;
+        return render_with(scene, camera, options, &occlusion, None);
+    }
     render_with(scene, camera, options, &NoOcclusion, None)
 }
 
@@ -475,11 +499,12 @@ impl<'a> Prepared<'a> {
         let sp = SurfacePoint { p: at.p, n: at.n.into(), v, tangent: None };
         let w = occlusion.obscurance(at);
         let vis = |j: usize, inc: &Incident| occlusion.visibility(at, j, inc);
+        let indirect = occlusion.indirect(at, w);
         match tint {
-            None => radiance(m, terms, &self.scene.lights, &sp, w, vis),
+            None => radiance(m, terms, &self.scene.lights, &sp, w, vis) + indirect,
             Some(t) => {
                 let unlit = Terms { emission: Vec3::ZERO, ..*terms };
-                terms.emission + t * radiance(m, &unlit, &self.scene.lights, &sp, w, vis)
+                terms.emission + t * (radiance(m, &unlit, &self.scene.lights, &sp, w, vis) + indirect)
             }
         }
     }

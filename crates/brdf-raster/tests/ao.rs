@@ -86,7 +86,7 @@ fn a_point_on_an_open_plane_is_fully_open() {
     let (p, f) = grid_y0(5.0, 4);
     let bvh = Bvh::build(&p, &f).unwrap();
     for samples in [1, 7, 64, 1000] {
-        let opts = AoOptions { tau: 3.0, d_max: 2.0, samples, seed: 5, per_pixel: false };
+        let opts = AoOptions { tau: 3.0, d_max: 2.0, samples, seed: 5, ..AoOptions::default() };
         let o = Obscurance::new(&bvh, &opts).unwrap();
         for (i, q) in [Vec3::ZERO, Vec3::new(1.3, 0.0, -2.2), Vec3::new(2.5, 0.0, 2.5)].iter().enumerate() {
             assert_eq!(o.at(*q, Vec3::Y, i as u64), 1.0, "samples={samples} at {q}");
@@ -98,7 +98,7 @@ fn a_point_on_an_open_plane_is_fully_open() {
 fn bottom_centre_and_corner_of_an_open_box_match_quadrature() {
     let (a, h, tau, d_max) = (1.0f32, 1.0f32, 2.0f32, 1.5f32);
     let bvh = Bvh::from_triangles(&open_box(a, h)).unwrap();
-    let opts = AoOptions { tau, d_max, samples: 4096, seed: 17, per_pixel: false };
+    let opts = AoOptions { tau, d_max, samples: 4096, seed: 17, ..AoOptions::default() };
     let o = Obscurance::new(&bvh, &opts).unwrap();
     let (a64, h64, t64, d64) = (a as f64, h as f64, tau as f64, d_max as f64);
     for (px, py) in [(0.0, 0.0), (-0.8, -0.8), (0.5, -0.2)] {
@@ -115,7 +115,7 @@ fn bottom_centre_and_corner_of_an_open_box_match_quadrature() {
 
 #[test]
 fn the_corner_is_darker_than_the_centre_and_a_taller_box_darker_still() {
-    let opts = AoOptions { tau: 2.0, d_max: 1.5, samples: 1024, seed: 1, per_pixel: false };
+    let opts = AoOptions { tau: 2.0, d_max: 1.5, samples: 1024, seed: 1, ..AoOptions::default() };
     let low = Bvh::from_triangles(&open_box(1.0, 0.5)).unwrap();
     let tall = Bvh::from_triangles(&open_box(1.0, 2.0)).unwrap();
     let w = |bvh: &Bvh, x: f32| Obscurance::new(bvh, &opts).unwrap().at(Vec3::new(x, x, 0.0), Vec3::Z, 0);
@@ -135,7 +135,7 @@ fn a_sphere_resting_on_a_plane_darkens_the_plane_near_the_contact() {
     positions.extend(sp.iter().map(|&p| p + Vec3::Y));
     faces.extend(sf.iter().map(|t| t.map(|i| i + base)));
     let bvh = Bvh::build(&positions, &faces).unwrap();
-    let opts = AoOptions { tau: 1.0, d_max: 2.0, samples: 256, seed: 3, per_pixel: false };
+    let opts = AoOptions { tau: 1.0, d_max: 2.0, samples: 256, seed: 3, ..AoOptions::default() };
 
     // Along the plane, w rises with the distance from the contact point.
     let xs = [0.25f32, 0.5, 1.0, 1.5, 2.0, 3.0];
@@ -177,7 +177,7 @@ fn obscurance_is_deterministic_and_independent_of_the_thread_count() {
     faces.extend(sf.iter().map(|t| t.map(|i| i + base)));
     let normals: Vec<Vec3> = gp.iter().map(|_| Vec3::Y).chain(sp.iter().copied()).collect();
     let bvh = Bvh::build(&positions, &faces).unwrap();
-    let opts = AoOptions { tau: 2.0, d_max: 1.5, samples: 32, seed: 9, per_pixel: false };
+    let opts = AoOptions { tau: 2.0, d_max: 1.5, samples: 32, seed: 9, ..AoOptions::default() };
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| obscurance_per_vertex(&bvh, &positions, &normals, &opts).unwrap())

@@ -1,0 +1,150 @@
+//! [`SceneOcclusion`]: obscurance and shadows for the renderer, through its [`Occlusion`] hooks.
+//!
+//! Built once per render from the scene: one [`Bvh`] over every instance's world-space triangles (the
+//! same `transform_point3` / `project_point3` as the renderer's vertex stage), and, for per-vertex
+//! obscurance, `w` at every world-space vertex of every instance with its world normal (the normal
+//! matrix, as the renderer does) — shading points then interpolate it with their perspective-correct
+//! barycentrics (seed 004: "usually pre-calculated and stored as vertex data"). Per-pixel obscurance
+//! instead estimates `w` at each shading point, keyed by a hash of the point so the result does not
+//! depend on threads or on the order bands are shaded in.
+//!
+//! Shadow rays start from the shaded triangle's geometric normal (see [`crate::shadows`]); at a vertex
+//! (Gouraud shading) the vertex normal stands in for it.
+//!
+//! With [`AoOptions::combined`], the lights' diffuse irradiance also feeds the ambient term, as in eq.
+//! 12.75: `I = [k_a I_a + k_d I_d(p)]·w(p) + direct`. The renderer adds `k_d ∘ I_d(p) · w(p)` through
+//! [`Occlusion::indirect`]; `k_d` is the material's ambient reflectance `k_a` — the reflectance the
+//! material offers to indirect light (for the course's Lambertian materials `k_a` and `k_d` are the
+//! same colour, and any model's direct term is still its own `shade`).
+
+use brdf_core::lights::Incident;
+use glam::{Mat3, Vec3, Vec4};
+use rayon::prelude::*;
+
+use crate::RasterError;
+use crate::ao::{AoOptions, Obscurance, Sampler};
+use crate::bvh::Bvh;
+use crate::render::{Occlusion, ShadePoint};
+use crate::scene::Scene;
+use crate::shadows::{diffuse_irradiance, shadow_offset, visibility};
+use crate::tiles::NO_TRI;
+
+/// Obscurance and/or shadows of a scene, ready to answer the renderer's [`Occlusion`] queries.
+pub struct SceneOcclusion<'a> {
+    scene: &'a Scene,
+    bvh: Bvh,
+    ao: Option<AoOptions>,
+    /// The per-point estimator (pattern, offset) when obscurance is on.
+    sampler: Option<Sampler>,
+    shadows: bool,
+    /// World-space positions of each instance's vertices.
+    world: Vec<Vec<Vec3>>,
+    /// Per-vertex `w` of each instance (empty unless per-vertex obscurance is on).
+    vertex_w: Vec<Vec<f32>>,
+    shadow_eps: f32,
+}
+
+impl<'a> SceneOcclusion<'a> {
+    /// Prepare obscurance (`ao`, validated here) and/or shadows (`shadows`) for `scene`.
+    /// Per-vertex obscurance is computed here, in parallel.
+    pub fn new(scene: &'a Scene, ao: Option<AoOptions>, shadows: bool) -> Result<Self, RasterError> {
+        if let Some(o) = &ao {
+            o.validate()?;
+        }
+        scene.validate()?;
+        let world: Vec<Vec<Vec3>> = scene
+            .instances
+            .iter()
+            .map(|inst| {
+                let m = inst.transform;
+                let affine = m.row(3) == Vec4::W;
+                inst.mesh
+                    .positions
+                    .par_iter()
+                    .map(|&p| if affine { m.transform_point3(p) } else { m.project_point3(p) })
+                    .collect()
+            })
+            .collect();
+        let parts: Vec<(&[Vec3], &[[u32; 3]])> =
+            scene.instances.iter().zip(&world).map(|(i, w)| (&w[..], &i.mesh.indices[..])).collect();
+        let bvh = Bvh::from_parts(&parts)?;
+        let sampler = ao.as_ref().map(|o| Sampler::new(&bvh, o)).transpose()?;
+        let mut vertex_w = Vec::new();
+        if let Some(o) = ao.filter(|o| !o.per_pixel) {
+            let est = Obscurance::new(&bvh, &o)?;
+            for (inst, w) in scene.instances.iter().zip(&world) {
+                let nm: Mat3 = inst.normal_matrix();
+                let normals: Vec<Vec3> =
+                    inst.mesh.normals.iter().map(|&n| (nm * n).normalize_or_zero()).collect();
+                vertex_w.push(est.at_points(w, &normals)?);
+            }
+        }
+        let shadow_eps = shadow_offset(&bvh);
+        Ok(Self { scene, bvh, ao, sampler, shadows, world, vertex_w, shadow_eps })
+    }
+
+    /// The BVH over the scene's world-space triangles.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    /// Per-vertex obscurance of instance `k` (empty when obscurance is off or per pixel).
+    pub fn vertex_obscurance(&self, k: usize) -> &[f32] {
+        self.vertex_w.get(k).map_or(&[], |v| &v[..])
+    }
+
+    /// World-space geometric normal of the shaded triangle (the shading normal at a vertex).
+    fn geometric_normal(&self, at: &ShadePoint) -> Vec3 {
+        let k = at.instance as usize;
+        if at.face == NO_TRI {
+            return at.n;
+        }
+        let w = &self.world[k];
+        let [a, b, c] = self.scene.instances[k].mesh.indices[at.face as usize].map(|i| w[i as usize]);
+        let n = (b - a).cross(c - a).normalize_or_zero();
+        if n == Vec3::ZERO { at.n } else { n }
+    }
+}
+
+/// A key for the per-pixel sample pattern from what identifies the point (instance, face, vertex and
+/// the bits of its position): deterministic, independent of threads and band order.
+fn point_key(at: &ShadePoint) -> u64 {
+    let mut h = 0xCBF2_9CE4_8422_2325u64;
+    for x in [at.instance, at.face, at.vertex, at.p.x.to_bits(), at.p.y.to_bits(), at.p.z.to_bits()] {
+        h = (h ^ u64::from(x)).wrapping_mul(0x0000_0100_0000_01B3);
+    }
+    h
+}
+
+impl Occlusion for SceneOcclusion<'_> {
+    fn obscurance(&self, at: &ShadePoint) -> f32 {
+        let (Some(o), Some(sampler)) = (&self.ao, &self.sampler) else { return 1.0 };
+        let k = at.instance as usize;
+        if o.per_pixel {
+            return sampler.at(&self.bvh, at.p, at.n, point_key(at));
+        }
+        let w = &self.vertex_w[k];
+        if at.vertex != NO_TRI {
+            return w[at.vertex as usize];
+        }
+        let [a, b, c] = self.scene.instances[k].mesh.indices[at.face as usize];
+        (at.bary.x * w[a as usize] + at.bary.y * w[b as usize] + at.bary.z * w[c as usize]).clamp(0.0, 1.0)
+    }
+
+    fn visibility(&self, at: &ShadePoint, _light: usize, incident: &Incident) -> f32 {
+        if !self.shadows {
+            return 1.0;
+        }
+        visibility(&self.bvh, at.p, self.geometric_normal(at), incident, self.shadow_eps)
+    }
+
+    fn indirect(&self, at: &ShadePoint, w: f32) -> Vec3 {
+        let Some(o) = &self.ao else { return Vec3::ZERO };
+        if !o.combined || w <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let ka = self.scene.instances[at.instance as usize].material.ambient;
+        let bvh = self.shadows.then_some(&self.bvh);
+        ka * diffuse_irradiance(bvh, at.p, at.n, self.geometric_normal(at), &self.scene.lights) * w
+    }
+}

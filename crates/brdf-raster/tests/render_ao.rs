@@ -1,0 +1,137 @@
+//! Obscurance and shadows in rendered images (`RenderOptions::ao`, `RenderOptions::shadows`): a unit
+//! sphere resting on a plane, seen from straight above by an orthographic camera, so that pixel
+//! `(col, row)` shows the plane point `x = −3 + (col + ½)·6/W`, `z = −3 + (row + ½)·6/H`.
+
+use std::sync::Arc;
+
+use brdf_core::lights::Light;
+use brdf_core::{Input, Model};
+use brdf_raster::ao::{AoOptions, Obscurance};
+use brdf_raster::bvh::Bvh;
+use brdf_raster::procedural::{icosphere, plane};
+use brdf_raster::{Camera, Material, Mesh, RenderOptions, Scene, ShadingMode, render};
+use glam::{Mat4, Vec3};
+
+const W: u32 = 96;
+
+fn lambert(c: f64) -> Model {
+    Model::build("lambert_classic", &[("color".to_string(), Input::Number(c))]).unwrap()
+}
+
+/// Plane 8×8 at y = 0 and a unit sphere centred at (0, 1, 0); ambient reflectance `ka`, `I_a` = 1.
+fn scene(ka: f32, lights: Vec<Light>, with_sphere: bool) -> Scene {
+    let mut s = Scene::new();
+    let m = Material::new(lambert(0.8)).with_ambient(Vec3::splat(ka));
+    s.add(Arc::new(plane(8.0, 32).unwrap()), m.clone(), Mat4::IDENTITY);
+    if with_sphere {
+        s.add(Arc::new(icosphere(4).unwrap()), m, Mat4::from_translation(Vec3::Y));
+    }
+    s.lights = lights;
+    s
+}
+
+fn camera() -> Camera {
+    Camera::orthographic(Vec3::new(0.0, 6.0, 0.0), Vec3::ZERO, -Vec3::Z, 6.0, 0.1, 20.0).unwrap()
+}
+
+/// The pixel showing plane point (x, 0, z).
+fn pixel(x: f32, z: f32) -> (u32, u32) {
+    (((x + 3.0) / 6.0 * W as f32) as u32, ((z + 3.0) / 6.0 * W as f32) as u32)
+}
+
+fn options(ao: Option<AoOptions>, shadows: bool) -> RenderOptions {
+    RenderOptions { shading: ShadingMode::Phong, ao, shadows, ..RenderOptions::new(W, W) }
+}
+
+/// The plane point at the centre of pixel (col, row).
+fn pixel_centre(c: u32, r: u32) -> Vec3 {
+    Vec3::new(-3.0 + (c as f32 + 0.5) * 6.0 / W as f32, 0.0, -3.0 + (r as f32 + 0.5) * 6.0 / W as f32)
+}
+
+#[test]
+fn ambient_obscurance_darkens_the_plane_next_to_the_sphere_per_vertex_and_per_pixel() {
+    let s = scene(1.0, vec![], true);
+    let open = render(&s, &camera(), &options(None, false)).unwrap();
+    let (xn, zn) = pixel(1.15, 0.0);
+    let (xf, zf) = pixel(2.8, 2.8);
+    // Without obscurance, the ambient term is k_a·I_a = 1 everywhere.
+    assert!((open.hdr_at(xn, zn) - Vec3::ONE).abs().max_element() < 1e-6);
+    // The obscurance the image should show there, estimated directly with many rays.
+    let ao = AoOptions { tau: 1.0, d_max: 1.0, samples: 64, seed: 1, ..AoOptions::default() };
+    let meshes: Vec<(&Mesh, Mat4)> = s.instances.iter().map(|i| (&*i.mesh, i.transform)).collect();
+    let bvh = Bvh::from_instances(&meshes).unwrap();
+    let fine = Obscurance::new(&bvh, &AoOptions { samples: 4096, ..ao }).unwrap();
+    let want = fine.at(pixel_centre(xn, zn), Vec3::Y, 0);
+    assert!(want < 0.97, "the test point must be visibly obscured: {want}");
+    for per_pixel in [false, true] {
+        let f = render(&s, &camera(), &options(Some(AoOptions { per_pixel, ..ao }), false)).unwrap();
+        let (near, far) = (f.hdr_at(xn, zn).x, f.hdr_at(xf, zf).x);
+        // Far from the sphere (more than d_max away) the plane is fully open; next to it, the image
+        // shows w (per pixel: a 64-ray estimate; per vertex: interpolated from the 0.25-spaced grid).
+        assert!((far - 1.0).abs() < 1e-5, "per_pixel={per_pixel}: far from the sphere w = {far}");
+        assert!((near - want).abs() < 0.03, "per_pixel={per_pixel}: near the contact {near}, direct {want}");
+        // The top of the sphere (image centre) is open too.
+        assert!((f.hdr_at(W / 2, W / 2).x - 1.0).abs() < 1e-3, "per_pixel={per_pixel}");
+    }
+}
+
+#[test]
+fn shadows_fall_where_the_light_projects_the_sphere() {
+    // Light travelling along (1, −1, 0): the sphere's shadow is the ellipse centred at (1, 0, 0) with
+    // semi-axes √2 (x) and 1 (z) on the plane.
+    let sun = Light::directional(Vec3::new(1.0, -1.0, 0.0), Vec3::ONE).unwrap();
+    let s = scene(0.0, vec![sun], true);
+    let lit_value = 0.8 * std::f32::consts::FRAC_1_SQRT_2;
+    let plain = render(&s, &camera(), &options(None, false)).unwrap();
+    let shadowed = render(&s, &camera(), &options(None, true)).unwrap();
+    for (x, z, in_shadow) in [
+        (2.2, 0.0, true),
+        (1.6, -0.6, true),
+        (2.0, 0.5, true),
+        (-2.0, 0.0, false),
+        (1.0, 1.5, false),
+        (0.0, -1.4, false),
+    ] {
+        if x * x + z * z < 1.2 {
+            continue; // covered by the sphere in this view
+        }
+        let (c, r) = pixel(x, z);
+        assert!((plain.hdr_at(c, r).x - lit_value).abs() < 1e-4, "no shadows: lit at ({x},{z})");
+        let want = if in_shadow { 0.0 } else { lit_value };
+        assert!((shadowed.hdr_at(c, r).x - want).abs() < 1e-4, "({x},{z}): {}", shadowed.hdr_at(c, r).x);
+    }
+}
+
+#[test]
+fn combined_mode_adds_the_lights_diffuse_irradiance_to_the_obscured_ambient_term() {
+    // Plane alone, light from straight above with E = 1: I_d = 1 and w = 1 on the open plane, so eq.
+    // 12.75 gives [k_a·I_a + k_a·I_d]·w + k_d·I_d = (0.1 + 0.1) + 0.8 (k_d of the indirect term is k_a).
+    let sun = Light::directional(-Vec3::Y, Vec3::ONE).unwrap();
+    let s = scene(0.1, vec![sun], false);
+    let ao = AoOptions { d_max: 1.0, samples: 16, combined: true, ..AoOptions::default() };
+    let f = render(&s, &camera(), &options(Some(ao), true)).unwrap();
+    let (c, r) = pixel(0.3, -0.7);
+    assert!((f.hdr_at(c, r).x - 1.0).abs() < 1e-5, "{}", f.hdr_at(c, r));
+    let plain = render(&s, &camera(), &options(Some(AoOptions { combined: false, ..ao }), true)).unwrap();
+    assert!((plain.hdr_at(c, r).x - 0.9).abs() < 1e-5, "{}", plain.hdr_at(c, r));
+}
+
+#[test]
+fn invalid_ao_options_are_refused_by_render() {
+    let s = scene(1.0, vec![], false);
+    let bad = AoOptions { samples: 0, ..AoOptions::default() };
+    let e = render(&s, &camera(), &options(Some(bad), false)).unwrap_err().to_string();
+    assert!(e.starts_with("samples"), "{e}");
+}
+
+#[test]
+fn renders_with_obscurance_and_shadows_do_not_depend_on_the_thread_count() {
+    let sun = Light::directional(Vec3::new(1.0, -1.0, 0.3), Vec3::ONE).unwrap();
+    let s = scene(0.2, vec![sun], true);
+    let ao = AoOptions { d_max: 1.0, samples: 16, per_pixel: true, ..AoOptions::default() };
+    let run = |t: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
+        pool.install(|| render(&s, &camera(), &options(Some(ao), true)).unwrap().hdr)
+    };
+    assert_eq!(run(1), run(3));
+}
