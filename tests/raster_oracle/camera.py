@@ -140,3 +140,17 @@ class Camera:
             pts.append(w[..., :3] / w[..., 3:])
         d = pts[1] - pts[0]
         return pts[0], d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+    def unproject(self, ndc_xy: ArrayLike, depth: ArrayLike, aspect: float) -> F64:
+        """World points (N, 3) seen at NDC ``(x, y)`` (N, 2) at view-space distance ``depth`` (N,) in
+        front of the camera (``near <= depth <= far``): on the segment between the point's near- and
+        far-plane images, along which view-space depth is affine."""
+        xy = np.asarray(ndc_xy, dtype=np.float64).reshape(-1, 2)
+        inv = np.linalg.inv(self.view_projection(aspect))
+        ends = []
+        for z in (-1.0, 1.0):
+            ndc = np.column_stack([xy, np.full(len(xy), z), np.ones(len(xy))])
+            w = ndc @ inv.T
+            ends.append(w[:, :3] / w[:, 3:])
+        u = (np.asarray(depth, dtype=np.float64) - self.near) / (self.far - self.near)
+        return ends[0] + u[:, None] * (ends[1] - ends[0])

@@ -4,6 +4,8 @@ SCENE.md (the icosphere), plus the small meshes the tests build screens from. fl
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -176,6 +178,26 @@ def fan(
     n = len(rim)
     f = np.array([[0, 1 + i, 1 + (i + 1) % n] for i in range(n)], dtype=np.int64)
     return v, f
+
+
+def screen_tiling(
+    kind: str, rng: np.random.Generator, camera: Any, aspect: float, depth: tuple[float, float] = (1.0, 4.0)
+) -> tuple[F64, I64]:
+    """A mesh whose image covers the whole screen exactly once, with many shared edges and vertices:
+    a jittered ``"grid"`` or a ``"fan"`` around a random centre, drawn in NDC over a square of half-size
+    1.5 turned by a random angle (so it covers the [-1, 1]^2 screen), then lifted along each vertex's
+    camera ray to a random view depth in ``depth``. The lift keeps every vertex's image, so the triangles
+    tile the screen as the 2-D pattern does, while in 3-D the mesh is a crumpled, non-planar sheet seen in
+    perspective. Faces stay CCW on screen (front-facing)."""
+    if kind == "grid":
+        v, f = grid(int(rng.integers(9, 14)), int(rng.integers(7, 11)), 0.24, rng)
+    else:
+        v, f = fan(rng.uniform(-0.6, 0.6, 2), int(rng.integers(20, 40)), rng=rng)
+    a = rng.uniform(0, 2 * np.pi)
+    rot = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    xy = 1.5 * v[:, :2] @ rot.T
+    d = rng.uniform(depth[0], depth[1], len(v))
+    return camera.unproject(xy, d, aspect), f
 
 
 def rotation(axis: ArrayLike, angle: float) -> F64:

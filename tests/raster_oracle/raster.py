@@ -302,8 +302,12 @@ def render(
     shading: str = "phong",
     cull_back_faces: bool = True,
     subpixel_bits: int | None = 8,
+    perspective_correct: bool = True,
 ) -> Frame:
-    """Render ``scene`` seen by ``camera`` into a ``height`` x ``width`` frame."""
+    """Render ``scene`` seen by ``camera`` into a ``height`` x ``width`` frame.
+
+    ``perspective_correct=False`` interpolates affinely in screen space (the seed's scanline
+    interpolation taken literally): only for showing that a test can tell the two apart."""
     if shading not in ("flat", "gouraud", "phong", "quadratic"):
         raise ValueError(f"unknown shading {shading!r}")
     vp = camera.view_projection(width / height)
@@ -329,7 +333,7 @@ def render(
         depth[rr, cc] = z[win]
         tri[rr, cc] = pc.face
         ins[rr, cc] = pc.inst
-        pl = lam[win] * pc.inv_w
+        pl = lam[win] * pc.inv_w if perspective_correct else lam[win]
         pl /= pl.sum(axis=1, keepdims=True)
         beta_buf[rr, cc] = pl @ pc.beta
 
