@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-from brdfpy import checks, tonemap, vectors
+from brdfpy import checks, fresnel, microfacet, tonemap, vectors
 from brdfpy._brdfpy import BrdfError, __version__, get_num_threads, set_num_threads
 from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
 from brdfpy.models import Model, ModelInfo, ParamInfo, model, model_info, models
@@ -27,7 +27,9 @@ __all__ = [
     "ParamInfo",
     "__version__",
     "checks",
+    "fresnel",
     "get_num_threads",
+    "microfacet",
     "model",
     "model_info",
     "models",

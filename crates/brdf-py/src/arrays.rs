@@ -83,3 +83,56 @@ pub fn broadcast_len(inputs: &[(&str, usize)]) -> PyResult<usize> {
     }
     Ok(n)
 }
+
+/// A float32 array of `shape` (plus a trailing 3 when `rgb`) filled by `f` from the flat float32 input `x`
+/// element by element, with the GIL released and the pool used for large inputs. Every element of `x`
+/// must satisfy `valid` (else an error naming `name` and the index, saying `problem`).
+pub fn map_flat<'py>(
+    py: Python<'py>,
+    name: &'static str,
+    x: &PyReadonlyArrayDyn<'py, f32>,
+    problem: &'static str,
+    valid: impl Fn(f32) -> bool + Send + Sync,
+    rgb: bool,
+    f: impl Fn(f32) -> glam::Vec3 + Send + Sync,
+) -> PyResult<Bound<'py, numpy::PyArrayDyn<f32>>> {
+    use numpy::PyArrayMethods;
+    let xs = flat_view(name, x)?;
+    let mut shape = x.shape().to_vec();
+    if rgb {
+        shape.push(3);
+    }
+    let out = numpy::PyArrayDyn::<f32>::zeros(py, shape, false);
+    {
+        let mut w = out.readwrite();
+        let o = w.as_slice_mut().map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+        let body = |offset: usize, input: &[f32]| -> Result<(), RowError> {
+            if !input.iter().fold(true, |ok, &c| ok & valid(c)) {
+                let i = input.iter().position(|&c| !valid(c)).unwrap_or(0);
+                return Err(RowError { row: offset + i, name, problem });
+            }
+            Ok(())
+        };
+        if rgb {
+            let o: &mut [Vec3] = bytemuck::cast_slice_mut(o);
+            crate::threads::fill(py, o, |offset, chunk| {
+                let input = &xs[offset..offset + chunk.len()];
+                body(offset, input)?;
+                for (o, &c) in chunk.iter_mut().zip(input) {
+                    *o = f(c);
+                }
+                Ok(())
+            })?;
+        } else {
+            crate::threads::fill(py, o, |offset, chunk| {
+                let input = &xs[offset..offset + chunk.len()];
+                body(offset, input)?;
+                for (o, &c) in chunk.iter_mut().zip(input) {
+                    *o = f(c).x;
+                }
+                Ok(())
+            })?;
+        }
+    }
+    Ok(out)
+}

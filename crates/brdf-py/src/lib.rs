@@ -8,6 +8,8 @@ use pyo3::prelude::*;
 mod arrays;
 mod checks;
 mod errors;
+mod fresnel;
+mod microfacet;
 mod models;
 mod threads;
 mod tonemap;
@@ -20,6 +22,13 @@ mod _brdfpy {
 
     #[pymodule_export]
     use super::checks::{check, directional_albedo, positivity, reciprocity_error};
+    #[pymodule_export]
+    use super::fresnel::{
+        color_shift, conductor, dielectric, dielectric_sp, f0_from_ior, ior_from_f0, metal_f0, metal_names,
+        schlick,
+    };
+    #[pymodule_export]
+    use super::microfacet::{distribution, masking, microfacet_names, smith_lambda};
     #[pymodule_export]
     use super::models::{Model, model_names, model_spec};
     #[pymodule_export]

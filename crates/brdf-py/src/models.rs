@@ -20,12 +20,21 @@ pub fn model_names() -> Vec<&'static str> {
 }
 
 /// An `f32` as the Python float with the same shortest decimal form (0.3f32 → 0.3, not 0.30000001192…),
-/// so that defaults and resolved parameters read back as they were written.
-fn py_float(x: f32) -> f64 {
-    format!("{x}").parse().unwrap_or(f64::from(x))
+/// so that defaults and resolved parameters read back as they were written — unless that decimal falls
+/// outside the parameter's range `[lo, hi]` (e.g. a bound of π/2 in f32, whose shortest decimal is above
+/// it in f64): then the exact value, so that every value we report is accepted back.
+fn py_float(x: f32, lo: f32, hi: f32) -> f64 {
+    let exact = f64::from(x);
+    match format!("{x}").parse::<f64>() {
+        Ok(short) if short >= f64::from(lo) && short <= f64::from(hi) => short,
+        _ => exact,
+    }
 }
 
-fn value_to_py<'py>(py: Python<'py>, kind: ParamKind, v: &Value) -> PyResult<Bound<'py, PyAny>> {
+fn value_to_py<'py>(py: Python<'py>, p: Option<&ParamSpec>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
+    let (lo, hi) = p.map_or((f32::MIN, f32::MAX), |p| (p.min, p.max));
+    let kind = p.map_or(ParamKind::Scalar, |p| p.kind);
+    let py_float = |x: f32| py_float(x, lo, hi);
     Ok(match v {
         Value::Scalar(x) => py_float(*x).into_pyobject(py)?.into_any(),
         Value::Color(c) => PyTuple::new(py, c.iter().map(|&x| py_float(x)))?.into_any(),
@@ -57,10 +66,11 @@ fn param_to_py<'py>(py: Python<'py>, p: &ParamSpec) -> PyResult<Bound<'py, PyDic
     let d = PyDict::new(py);
     d.set_item("name", p.name)?;
     d.set_item("kind", kind_name(p.kind))?;
-    d.set_item("default", value_to_py(py, p.kind, &p.default)?)?;
+    d.set_item("default", value_to_py(py, Some(p), &p.default)?)?;
     let numeric = matches!(p.kind, ParamKind::Scalar | ParamKind::Color | ParamKind::Array { .. });
-    d.set_item("min", numeric.then(|| py_float(p.min)))?;
-    d.set_item("max", numeric.then(|| py_float(p.max)))?;
+    // Bounds are reported so that they pass the range check themselves (it compares in f64).
+    d.set_item("min", numeric.then(|| py_float(p.min, p.min, p.max)))?;
+    d.set_item("max", numeric.then(|| py_float(p.max, p.min, p.max)))?;
     d.set_item("unit", p.unit)?;
     d.set_item("doc", p.doc)?;
     match p.kind {
@@ -223,8 +233,8 @@ impl Model {
         let d = PyDict::new(py);
         let spec = self.inner.spec();
         for (name, v) in self.params.values() {
-            let kind = spec.params.iter().find(|p| p.name == *name).map_or(ParamKind::Scalar, |p| p.kind);
-            d.set_item(*name, value_to_py(py, kind, v)?)?;
+            let p = spec.params.iter().find(|p| p.name == *name);
+            d.set_item(*name, value_to_py(py, p, v)?)?;
         }
         Ok(d)
     }

@@ -1,0 +1,154 @@
+"""Microfacet terms: normal distributions D [1/sr], Smith Λ and G1, and shadowing-masking G (dimensionless).
+
+Conventions: ``h`` is the (unit) microfacet normal / half vector, ``n`` the macro-surface normal, ``l`` and
+``v`` point away from the surface. Inputs are array-likes of shape ``(N, 3)`` or ``(3,)`` (broadcast), outputs
+float32 of shape ``(N,)``. Anisotropic distributions use ``alpha`` along ``tangent`` and ``alpha_y`` along the
+bitangent ``n × t``; without a tangent an arbitrary frame around ``n`` is used. A D is normalised:
+``∫ D(h)(n·h) dω_h = 1``. Formulas and sources: brdf-core ``microfacet/`` and ``masking.rs`` (seeds 001, 002,
+004; Walter et al. 2007; Heitz 2014).
+
+Distributions (``alpha`` meaning): ``beckmann`` (RMS slope), ``ggx`` (Trowbridge-Reitz roughness),
+``gaussian`` (RMS slope angle m, rad), ``blinn_phong`` (exponent ``2/α² − 2``), ``ward`` (RMS slope),
+``ashikhmin_shirley`` (``alpha``, ``alpha_y`` are the exponents nu, nv). Masking terms: ``smith``
+(height-correlated), ``smith_separable``, ``v_groove`` (Cook-Torrance), ``kelemen``, ``none``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Optional, Union
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from brdfpy import _brdfpy
+from brdfpy._arrays import as_vec3, as_vec3_args
+
+__all__ = ["DISTRIBUTIONS", "MASKINGS", "distribution", "g1", "lambda_", "masking", "mixture"]
+
+F32 = NDArray[np.float32]
+#: A lobe of a mixture: ``(weight, name, alpha)`` or ``(weight, name, alpha, alpha_y)``.
+Lobe = Union[tuple[float, str, float], tuple[float, str, float, Optional[float]]]
+
+DISTRIBUTIONS: tuple[str, ...]
+MASKINGS: tuple[str, ...]
+_d, _g = _brdfpy.microfacet_names()
+DISTRIBUTIONS, MASKINGS = tuple(_d), tuple(_g)
+
+
+def _lobe(name: str, alpha: float, alpha_y: float | None) -> list[tuple[float, str, float, float | None]]:
+    if not isinstance(name, str):
+        raise TypeError(f"name: expected a distribution name (str), got {type(name).__name__}")
+    return [(1.0, name, float(alpha), None if alpha_y is None else float(alpha_y))]
+
+
+def _lobes(lobes: Sequence[Lobe]) -> list[tuple[float, str, float, float | None]]:
+    out = []
+    for i, lobe in enumerate(lobes):
+        if not isinstance(lobe, (tuple, list)) or len(lobe) not in (3, 4):
+            raise TypeError(f"lobes[{i}]: expected (weight, name, alpha[, alpha_y]), got {lobe!r}")
+        ay = lobe[3] if len(lobe) == 4 else None
+        out.append((float(lobe[0]), str(lobe[1]), float(lobe[2]), None if ay is None else float(ay)))
+    return out
+
+
+def _tangent(tangent: ArrayLike | None) -> F32 | None:
+    return None if tangent is None else as_vec3("tangent", tangent)[0]
+
+
+def distribution(
+    name: str,
+    h: ArrayLike,
+    n: ArrayLike,
+    alpha: float,
+    *,
+    alpha_y: float | None = None,
+    tangent: ArrayLike | None = None,
+) -> F32:
+    """Microfacet normal distribution ``D(h)`` [1/sr]; 0 for ``h`` below the surface.
+
+    E.g. GGX ``D = α² / (π ((n·h)²(α² − 1) + 1)²)``, Beckmann ``D = exp(−tan²θ_h/α²)/(π α² cos⁴θ_h)``.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`DISTRIBUTIONS`.
+    h, n : array_like, shape (N, 3) or (3,)
+        Half vectors and normals (normalised here).
+    alpha : float
+        Roughness (> 0; see the module docs for its meaning per distribution).
+    alpha_y : float, optional
+        Roughness along the bitangent for anisotropic distributions (default ``alpha``).
+    tangent : array_like, shape (N, 3) or (3,), optional
+        Direction of ``alpha``.
+    """
+    (ha, na), _ = as_vec3_args(h=h, n=n)
+    assert ha is not None and na is not None
+    return _brdfpy.distribution(_lobe(name, alpha, alpha_y), ha, na, _tangent(tangent))
+
+
+def mixture(lobes: Sequence[Lobe], h: ArrayLike, n: ArrayLike, *, tangent: ArrayLike | None = None) -> F32:
+    """Weighted sum of distributions ``D = Σ wᵢ Dᵢ(h)`` with weights renormalised to ``Σ wᵢ = 1``
+    (seed 001 "BRDF – mixture"; Cook & Torrance used two Beckmann lobes), so it stays normalised.
+
+    ``lobes``: up to 4 of ``(weight, name, alpha)`` or ``(weight, name, alpha, alpha_y)``, weights ≥ 0.
+    """
+    (ha, na), _ = as_vec3_args(h=h, n=n)
+    assert ha is not None and na is not None
+    return _brdfpy.distribution(_lobes(lobes), ha, na, _tangent(tangent))
+
+
+def lambda_(
+    w: ArrayLike,
+    n: ArrayLike,
+    alpha: float,
+    *,
+    distribution: str = "ggx",
+    alpha_y: float | None = None,
+    tangent: ArrayLike | None = None,
+) -> F32:
+    """Smith's ``Λ(w)`` of a distribution (Heitz 2014): GGX ``(−1 + √(1 + α² tan²θ))/2``, Beckmann's erf
+    form, others through their Beckmann-equivalent roughness. ``+inf`` below the surface."""
+    (wa, na), _ = as_vec3_args(w=w, n=n)
+    assert wa is not None and na is not None
+    return _brdfpy.smith_lambda(_lobe(distribution, alpha, alpha_y), wa, na, _tangent(tangent), False)
+
+
+def g1(
+    w: ArrayLike,
+    n: ArrayLike,
+    alpha: float,
+    *,
+    distribution: str = "ggx",
+    alpha_y: float | None = None,
+    tangent: ArrayLike | None = None,
+) -> F32:
+    """Smith masking of one direction, ``G1(w) = 1/(1 + Λ(w))`` in [0, 1]; 0 below the surface."""
+    (wa, na), _ = as_vec3_args(w=w, n=n)
+    assert wa is not None and na is not None
+    return _brdfpy.smith_lambda(_lobe(distribution, alpha, alpha_y), wa, na, _tangent(tangent), True)
+
+
+def masking(
+    name: str,
+    l: ArrayLike,
+    v: ArrayLike,
+    n: ArrayLike,
+    alpha: float,
+    *,
+    distribution: str = "ggx",
+    alpha_y: float | None = None,
+    tangent: ArrayLike | None = None,
+) -> F32:
+    """Shadowing-masking ``G(l, v)`` (dimensionless); 0 when ``l`` or ``v`` is below the surface.
+
+    ``smith``: ``1/(1 + Λ(l) + Λ(v))`` (height-correlated, Heitz 2014); ``smith_separable``: ``G1(l) G1(v)``
+    (Walter et al. 2007); ``v_groove``: ``min(1, 2(n·h)(n·v)/(v·h), 2(n·h)(n·l)/(v·h))`` (Torrance-Sparrow,
+    Cook-Torrance); ``kelemen``: ``(n·l)(n·v)/(v·h)²`` (Kelemen & Szirmay-Kalos 2001); ``none``: 1.
+    ``distribution``, ``alpha`` (and ``alpha_y``, ``tangent``) give Λ for the Smith terms.
+    """
+    if not isinstance(name, str):
+        raise TypeError(f"name: expected a masking name (str), got {type(name).__name__}")
+    (la, va, na), _ = as_vec3_args(l=l, v=v, n=n)
+    assert la is not None and va is not None and na is not None
+    return _brdfpy.masking(name, _lobe(distribution, alpha, alpha_y), la, va, na, _tangent(tangent))
