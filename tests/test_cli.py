@@ -25,11 +25,11 @@ def _png(path: Path) -> np.ndarray:
         return np.asarray(im)
 
 
-def test_bare_command_writes_the_gallery_of_every_model_into_the_current_folder(
+def test_gallery_command_writes_the_gallery_of_every_model_into_the_current_folder(
     tmp_path, monkeypatch, capsys
 ):
     monkeypatch.chdir(tmp_path)
-    assert cli.main([]) == 0
+    assert cli.main(["gallery"]) == 0
     img = _png(tmp_path / "brdfpy-gallery.png")
     out = capsys.readouterr().out
     assert "brdfpy-gallery.png" in out and f"{len(brdfpy.models())} models" in out

@@ -15,26 +15,49 @@ from __future__ import annotations
 
 import os
 
-from brdfpy import checks, fresnel, microfacet, tonemap, vectors
+from brdfpy import checks, fresnel, microfacet, tonemap, transforms, vectors
 from brdfpy._brdfpy import BrdfError, __version__, get_num_threads, set_num_threads
 from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
+from brdfpy.camera import Camera
+from brdfpy.image import Image
+from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
+from brdfpy.mesh import BUILTIN_MESHES, Mesh, builtin_mesh, cube, icosphere, load_mesh, open_box, plane, torus
 from brdfpy.models import Model, ModelInfo, ParamInfo, model, model_info, models
+from brdfpy.scene import Instance, Scene
 
 __all__ = [
+    "BUILTIN_MESHES",
     "BrdfError",
+    "Camera",
+    "DirectionalLight",
+    "Image",
+    "Instance",
+    "Light",
+    "Mesh",
     "Model",
     "ModelInfo",
     "ParamInfo",
+    "PointLight",
+    "Scene",
+    "SpotLight",
     "__version__",
+    "builtin_mesh",
     "checks",
+    "cube",
     "fresnel",
     "get_num_threads",
+    "icosphere",
+    "load_mesh",
     "microfacet",
     "model",
     "model_info",
     "models",
+    "open_box",
+    "plane",
     "set_num_threads",
     "tonemap",
+    "torus",
+    "transforms",
     "vectors",
 ]
 

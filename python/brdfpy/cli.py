@@ -2,7 +2,10 @@
 
 Sub-commands:
 
-``gallery`` (what a bare ``brdfpy`` runs)
+``render`` (what a bare ``brdfpy`` runs)
+    Render a 3D scene with the CPU rasterizer to a PNG (see :mod:`brdfpy.render_cmd`).
+
+``gallery``
     Write a PNG contact sheet of lit spheres, one per reflectance model (see :mod:`brdfpy.gallery`).
 """
 
@@ -16,11 +19,11 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
-from brdfpy import __version__, gallery, models, tonemap
+from brdfpy import __version__, gallery, models, render_cmd, tonemap
 
 __all__ = ["main"]
 
-_COMMANDS = ("gallery",)
+_COMMANDS = ("gallery", "render")
 
 
 def _parse_value(text: str) -> Any:
@@ -61,10 +64,11 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="brdfpy",
         description="brdfpy: fast reflectance models (BRDFs) with a Rust core. "
-        "Without a sub-command, runs 'gallery' with its defaults.",
+        "Without a sub-command, runs 'render' (the built-in scene) with its defaults.",
     )
     p.add_argument("--version", action="version", version=f"brdfpy {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    render_cmd.add_parser(sub)
     g = sub.add_parser(
         "gallery",
         help="write a PNG contact sheet of lit spheres, one per model",
@@ -170,13 +174,14 @@ def _gallery(args: argparse.Namespace) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``brdfpy`` command with ``argv`` (default: ``sys.argv[1:]``); returns the exit status."""
     args_in = list(sys.argv[1:] if argv is None else argv)
-    # A bare `brdfpy`, or options without a sub-command, run the gallery.
+    # A bare `brdfpy`, or options without a sub-command, run the render.
     if not args_in or (args_in[0] not in _COMMANDS and args_in[0] not in ("-h", "--help", "--version")):
-        args_in = ["gallery", *args_in]
+        args_in = ["render", *args_in]
     # "--light -1,1,0.5": argparse would take "-1,1,0.5" for an option; glue such values to their flag.
     glued: list[str] = []
     for a in args_in:
-        if glued and glued[-1] in ("--light", "--exposure", "--ambient") and re.match(r"^-[\d.]", a):
+        flags = ("--light", "--exposure", "--ambient", *render_cmd.NEGATIVE_VALUE_FLAGS)
+        if glued and glued[-1] in flags and re.match(r"^-[\d.]", a):
             glued[-1] = f"{glued[-1]}={a}"
         else:
             glued.append(a)
@@ -184,7 +189,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(args_in)
     try:
-        return _gallery(args)
+        return render_cmd.run(args) if args.command == "render" else _gallery(args)
     except (ValueError, TypeError, OSError) as e:
         print(f"brdfpy {args.command}: error: {e}", file=sys.stderr)
         return 2

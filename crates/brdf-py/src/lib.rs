@@ -11,6 +11,7 @@ mod errors;
 mod fresnel;
 mod microfacet;
 mod models;
+mod raster;
 mod threads;
 mod tonemap;
 mod vectors;
@@ -31,6 +32,11 @@ mod _brdfpy {
     use super::microfacet::{distribution, masking, microfacet_names, smith_lambda};
     #[pymodule_export]
     use super::models::{Model, model_names, model_spec};
+    #[pymodule_export]
+    use super::raster::{
+        RasterCamera, RasterFrame, RasterLight, RasterMesh, builtin_mesh, builtin_mesh_names, cube,
+        icosphere, load_mesh, load_mesh_bytes, open_box, plane, raster_limits, render_scene, torus,
+    };
     #[pymodule_export]
     use super::threads::{_reset_after_fork, get_num_threads, set_num_threads};
     #[pymodule_export]

@@ -1,0 +1,398 @@
+"""Triangle meshes for the rasterizer: from NumPy arrays, OBJ/PLY files, other libraries' meshes, procedural
+shapes and the meshes embedded in the library.
+
+Conventions: right-handed, +y up; faces are counter-clockwise seen from their front (outside) — the side
+back-face culling keeps; vertex normals are unit length and point out of the front side.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Union
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from brdfpy import _brdfpy
+
+__all__ = [
+    "BUILTIN_MESHES",
+    "Mesh",
+    "builtin_mesh",
+    "cube",
+    "icosphere",
+    "load_mesh",
+    "open_box",
+    "plane",
+    "torus",
+]
+
+#: Names of the meshes embedded in the library, for :func:`builtin_mesh`.
+BUILTIN_MESHES: tuple[str, ...] = tuple(_brdfpy.builtin_mesh_names())
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+_WEIGHTINGS = ("angle", "area", "equal")
+
+
+def _rows(name: str, x: ArrayLike, dtype: type[np.generic]) -> NDArray[Any]:
+    """``x`` as a C-contiguous ``(N, 3)`` array of ``dtype``, with errors naming the argument."""
+    if x is None:
+        raise TypeError(f"{name}: expected an array of shape (N, 3), got None")
+    if isinstance(x, (str, bytes)):
+        raise TypeError(f"{name}: expected an array of shape (N, 3), got {type(x).__name__}")
+    try:
+        a = np.asarray(x)
+    except (ValueError, TypeError) as e:
+        raise ValueError(f"{name}: expected a rectangular array of numbers ({e})") from None
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError(f"{name}: expected shape (N, 3), got {a.shape}")
+    if a.shape[0] == 0:
+        raise ValueError(f"{name}: is empty (shape {a.shape})")
+    if dtype is np.uint32:
+        if a.dtype.kind not in "iu":
+            raise TypeError(f"{name}: expected integer vertex indices, got dtype {a.dtype}")
+        if a.dtype.kind == "i" and (a < 0).any():
+            row = int(np.argwhere(a < 0)[0, 0])
+            raise ValueError(f"{name}: face {row} has a negative vertex index {a[row].tolist()}")
+        if a.max() > np.iinfo(np.uint32).max:
+            raise ValueError(f"{name}: vertex indices above 2^32 - 1 are not supported")
+        return np.ascontiguousarray(a, dtype=np.uint32)
+    if a.dtype.kind not in "fiu":
+        raise TypeError(f"{name}: expected real numbers, got dtype {a.dtype}")
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = np.ascontiguousarray(a, dtype=np.float32)
+    bad = ~np.isfinite(out).all(axis=1)
+    if bad.any():
+        row = int(np.argmax(bad))
+        raise ValueError(f"{name}: row {row} is not finite (NaN, inf or beyond float32): {a[row].tolist()}")
+    return out
+
+
+def _readonly(a: NDArray[Any]) -> NDArray[Any]:
+    a.flags.writeable = False
+    return a
+
+
+class Mesh:
+    """A triangle mesh: vertex positions, unit vertex normals, faces (and optional vertex colors).
+
+    Parameters
+    ----------
+    vertices : array_like, shape (V, 3)
+        Vertex positions (any real dtype; stored as float32).
+    faces : array_like of int, shape (F, 3)
+        Vertex indices of each triangle, counter-clockwise seen from the front.
+    normals : array_like, shape (V, 3), optional
+        Vertex normals (normalised here; a zero normal is replaced by the computed one). Without them,
+        normals are computed from the faces with angle weighting (see :meth:`compute_normals`).
+    colors : array_like, shape (V, 3), optional
+        Per-vertex linear RGB colors; they multiply the lit (not emitted) color in renders.
+
+    Raises
+    ------
+    ValueError
+        Empty arrays, wrong shapes, NaN/inf values, or a face indexing past the vertices (the message
+        names the argument and the face).
+    TypeError
+        Non-numeric arrays, or non-integer faces.
+
+    Notes
+    -----
+    The arrays are copied into the library; :attr:`vertices`, :attr:`faces` and :attr:`normals` return
+    read-only copies. Degenerate (zero-area) faces are kept and simply cover no pixel. A scene holds the
+    mesh as it was when added: later :meth:`compute_normals` or :meth:`flip_winding` calls do not change
+    scenes it was already added to.
+
+    Examples
+    --------
+    >>> m = brdfpy.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> m.normals[0]
+    array([0., 0., 1.], dtype=float32)
+    """
+
+    __slots__ = ("_m",)
+
+    _m: _brdfpy.RasterMesh
+
+    def __init__(
+        self,
+        vertices: ArrayLike,
+        faces: ArrayLike,
+        normals: ArrayLike | None = None,
+        *,
+        colors: ArrayLike | None = None,
+    ) -> None:
+        v = _rows("vertices", vertices, np.float32)
+        f = _rows("faces", faces, np.uint32)
+        if int(f.max()) >= len(v):
+            row = int(np.argmax((f >= len(v)).any(axis=1)))
+            raise ValueError(
+                f"faces: face {row} {f[row].tolist()} indexes past the {len(v)} vertices "
+                f"(valid indices are 0..{len(v) - 1})"
+            )
+        n = None if normals is None else _rows("normals", normals, np.float32)
+        if n is not None and len(n) != len(v):
+            raise ValueError(f"normals: {len(n)} rows for {len(v)} vertices")
+        c = None if colors is None else _rows("colors", colors, np.float32)
+        if c is not None and len(c) != len(v):
+            raise ValueError(f"colors: {len(c)} rows for {len(v)} vertices")
+        self._m = _brdfpy.RasterMesh(v, f, n, c)
+
+    @classmethod
+    def _wrap(cls, raw: _brdfpy.RasterMesh) -> Mesh:
+        m = cls.__new__(cls)
+        m._m = raw
+        return m
+
+    @classmethod
+    def from_any(cls, obj: Any, *, use_normals: bool = True) -> Mesh:
+        """A mesh from any object with ``.vertices`` and ``.faces`` (or ``.triangles``) arrays.
+
+        Works with trimesh (``trimesh.Trimesh``), Open3D (``TriangleMesh``), meshio-like objects and plain
+        namespaces, without importing any of them. A :class:`Mesh` is returned as it is.
+
+        Parameters
+        ----------
+        obj
+            The source mesh. Its ``vertex_normals`` (or ``normals``) are used when present, of the right
+            shape and ``use_normals`` is true; otherwise normals are computed (angle weighting).
+        use_normals : bool
+            Take the object's vertex normals when it has them.
+
+        Raises
+        ------
+        TypeError
+            If ``obj`` has no vertices or no faces.
+        """
+        if isinstance(obj, Mesh):
+            return obj
+        vertices = getattr(obj, "vertices", None)
+        faces = getattr(obj, "faces", None)
+        if faces is None:
+            faces = getattr(obj, "triangles", None)
+        if vertices is None or faces is None:
+            raise TypeError(
+                f"obj: expected an object with .vertices and .faces (or .triangles) arrays, "
+                f"got {type(obj).__name__}"
+            )
+        normals = None
+        if use_normals:
+            for attr in ("vertex_normals", "normals"):
+                cand = getattr(obj, attr, None)
+                if cand is None or callable(cand):
+                    continue
+                try:
+                    arr = np.asarray(cand)
+                except (ValueError, TypeError):
+                    continue
+                if arr.shape == np.shape(vertices) and arr.size > 0:
+                    normals = arr
+                    break
+        colors = None
+        visual = getattr(obj, "visual", None)
+        vc = getattr(visual, "vertex_colors", None) if visual is not None else None
+        if vc is not None:
+            try:
+                arr = np.asarray(vc)
+            except (ValueError, TypeError):
+                arr = np.empty((0,))
+            if arr.ndim == 2 and arr.shape[0] == np.shape(vertices)[0] and arr.shape[1] in (3, 4):
+                rgb = arr[:, :3].astype(np.float32)
+                if arr.dtype.kind in "iu":
+                    rgb /= 255.0
+                # sRGB-encoded 8-bit colors → linear.
+                colors = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+        return cls(np.asarray(vertices), np.asarray(faces), normals, colors=colors)
+
+    # -- data -------------------------------------------------------------------------------------------
+
+    @property
+    def vertices(self) -> NDArray[np.float32]:
+        """Vertex positions, float32 (V, 3) (a read-only copy)."""
+        return _readonly(self._m.vertices)
+
+    @property
+    def faces(self) -> NDArray[np.uint32]:
+        """Vertex indices of each triangle, uint32 (F, 3), counter-clockwise from the front (a copy)."""
+        return _readonly(self._m.faces)
+
+    @property
+    def normals(self) -> NDArray[np.float32]:
+        """Unit vertex normals, float32 (V, 3) (a read-only copy)."""
+        return _readonly(self._m.normals)
+
+    @property
+    def colors(self) -> NDArray[np.float32] | None:
+        """Per-vertex linear RGB colors, float32 (V, 3), or ``None``."""
+        c = self._m.colors
+        return None if c is None else _readonly(c)
+
+    @property
+    def n_vertices(self) -> int:
+        """Number of vertices."""
+        return self._m.n_vertices
+
+    @property
+    def n_faces(self) -> int:
+        """Number of triangles."""
+        return self._m.n_faces
+
+    def __len__(self) -> int:
+        return self._m.n_faces
+
+    def __repr__(self) -> str:
+        lo, hi = self._m.bounds()
+        box = " × ".join(f"{h - l:.3g}" for l, h in zip(lo, hi))
+        return f"<brdfpy.Mesh {self.n_vertices} vertices, {self.n_faces} faces, size {box}>"
+
+    def face_normals(self) -> NDArray[np.float32]:
+        """Unit face normals, ``(p1 − p0) × (p2 − p0)`` normalised, float32 (F, 3); 0 if degenerate."""
+        return self._m.face_normals()
+
+    def bounds(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Axis-aligned bounding box ``(min, max)``, two arrays of 3."""
+        lo, hi = self._m.bounds()
+        return np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64)
+
+    def bounding_sphere(self) -> tuple[NDArray[np.float64], float]:
+        """``(center, radius)`` of a sphere enclosing every vertex (box centre, farthest vertex)."""
+        c, r = self._m.bounding_sphere()
+        return np.array(c, dtype=np.float64), float(r)
+
+    def stats(self) -> dict[str, Any]:
+        """Topology and geometry summary: counts, boundary / non-manifold / inconsistent edges, components,
+        ``watertight``, ``winding_consistent``, ``signed_volume`` (> 0: outward CCW faces), ``area``,
+        ``bounds``.
+        """
+        return dict(self._m.stats())
+
+    # -- editing ----------------------------------------------------------------------------------------
+
+    def compute_normals(self, weighting: str = "angle") -> Mesh:
+        """Recompute the vertex normals from the faces, in place, and return ``self``.
+
+        Each vertex normal is the normalised sum of the unit normals of its faces, weighted by
+        (seed 004, eqs. 12.31–12.33):
+
+        - ``"angle"``: the face's corner angle at the vertex (Thürmer & Wüthrich; independent of how a flat
+          region is triangulated — the default);
+        - ``"area"``: the face's area;
+        - ``"equal"``: 1 (Gouraud's original average).
+        """
+        if not isinstance(weighting, str):
+            raise TypeError(f"weighting: expected one of {_WEIGHTINGS}, got {type(weighting).__name__}")
+        self._m.compute_normals(weighting)
+        return self
+
+    def flip_winding(self) -> Mesh:
+        """Reverse every face's winding and negate the normals, in place (for meshes wound inward, which
+        back-face culling would otherwise hide); returns ``self``."""
+        self._m.flip_winding()
+        return self
+
+    def transformed(self, matrix: ArrayLike) -> Mesh:
+        """A new mesh with positions mapped by the 4×4 ``matrix`` (column vectors: ``p' = M @ p``) and
+        normals by its inverse transpose."""
+        return Mesh._wrap(self._m.transformed(_mat4("matrix", matrix)))
+
+    def copy(self) -> Mesh:
+        """An independent copy."""
+        return Mesh._wrap(self._m.transformed(_mat4("matrix", np.eye(4))))
+
+
+def _mat4(name: str, m: ArrayLike) -> list[float]:
+    try:
+        a = np.asarray(m, dtype=np.float64)
+    except (ValueError, TypeError) as e:
+        raise TypeError(f"{name}: expected a 4×4 matrix of numbers ({e})") from None
+    if a.shape != (4, 4):
+        raise ValueError(f"{name}: expected shape (4, 4), got {a.shape}")
+    if not np.isfinite(a).all():
+        raise ValueError(f"{name}: contains a non-finite value")
+    return [float(x) for x in a.reshape(16)]
+
+
+def _check_int(name: str, x: Any, lo: int, hi: int | None = None) -> int:
+    if isinstance(x, bool) or not isinstance(x, (int, np.integer)):
+        raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
+    v = int(x)
+    if v < lo or (hi is not None and v > hi):
+        rng = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
+        raise ValueError(f"{name}: must be {rng}, got {v}")
+    return v
+
+
+def _check_pos(name: str, x: Any) -> float:
+    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
+    v = float(x)
+    if not (v > 0 and np.isfinite(v)):
+        raise ValueError(f"{name}: must be finite and > 0, got {v}")
+    return v
+
+
+def load_mesh(path: PathLike) -> Mesh:
+    """Load a triangle mesh from an OBJ or PLY file (chosen by the extension).
+
+    OBJ polygons are triangulated (fan), PLY may be ASCII or binary with extra properties; vertex normals
+    and colors are used when the file has them, normals are computed (angle weighting) when not.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    ValueError
+        An unknown extension, or a malformed, truncated or empty file (the message names the file).
+    """
+    p = os.fspath(path)
+    if not isinstance(p, str):
+        p = os.fsdecode(p)
+    if not os.path.exists(p):
+        raise FileNotFoundError(f"path: no such file: {p!r}")
+    if os.path.isdir(p):
+        raise IsADirectoryError(f"path: is a directory: {p!r}")
+    return Mesh._wrap(_brdfpy.load_mesh(p))
+
+
+def builtin_mesh(name: str) -> Mesh:
+    """A mesh embedded in the library (no files needed), by name from :data:`BUILTIN_MESHES`:
+
+    - ``"cow"``: Garland's QSlim cow (5,804 triangles), about 1 unit long along x;
+    - ``"fandisk"``: Hoppe's fandisk CAD part (12,946 triangles, sharp creases), about 1 unit tall.
+
+    Both are CC0 (from CGAL's data set).
+    """
+    return Mesh._wrap(_brdfpy.builtin_mesh(name))
+
+
+def icosphere(level: int = 3) -> Mesh:
+    """A unit sphere made by subdividing an icosahedron ``level`` times (0–10): ``20·4^level`` triangles,
+    exact normals (= positions). The vertex and face order are those of the canonical benchmark scene."""
+    return Mesh._wrap(_brdfpy.icosphere(_check_int("level", level, 0, 10)))
+
+
+def torus(major_segments: int = 64, minor_segments: int = 32) -> Mesh:
+    """A torus around the +z axis: ring radius 0.7, tube radius 0.3, exact normals,
+    ``2·major_segments·minor_segments`` triangles."""
+    return Mesh._wrap(
+        _brdfpy.torus(
+            _check_int("major_segments", major_segments, 3), _check_int("minor_segments", minor_segments, 3)
+        )
+    )
+
+
+def plane(size: float = 2.0, subdivisions: int = 1) -> Mesh:
+    """A square of side ``size`` in the plane y = 0, centred at the origin, facing +y (a floor), split into
+    ``subdivisions × subdivisions`` cells of two triangles."""
+    return Mesh._wrap(_brdfpy.plane(_check_pos("size", size), _check_int("subdivisions", subdivisions, 1)))
+
+
+def cube(size: float = 1.0, subdivisions: int = 1) -> Mesh:
+    """A closed cube of side ``size`` centred at the origin, with flat faces (no shared vertices)."""
+    return Mesh._wrap(_brdfpy.cube(_check_pos("size", size), _check_int("subdivisions", subdivisions, 1)))
+
+
+def open_box(size: float = 1.0, subdivisions: int = 1) -> Mesh:
+    """A box open at the top (+y), faces pointing inward: a test scene for ambient occlusion."""
+    return Mesh._wrap(_brdfpy.open_box(_check_pos("size", size), _check_int("subdivisions", subdivisions, 1)))

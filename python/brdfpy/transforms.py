@@ -1,0 +1,62 @@
+"""4×4 transform matrices for placing meshes in a scene (column vectors: ``p' = M @ p``; compose with ``@``,
+the rightmost applies first). Angles in degrees.
+
+>>> from brdfpy.transforms import translate, rotate, scale
+>>> m = translate(0, 1, 0) @ rotate((0, 1, 0), 90) @ scale(0.5)
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from brdfpy.camera import vec3
+
+__all__ = ["identity", "rotate", "scale", "translate"]
+
+M4 = NDArray[np.float64]
+
+
+def identity() -> M4:
+    """The 4×4 identity."""
+    return np.eye(4)
+
+
+def translate(x: Any, y: float | None = None, z: float | None = None) -> M4:
+    """Translation by ``(x, y, z)`` (or by a sequence of three numbers given as ``x``)."""
+    t = vec3("offset", x if y is None and z is None else (x, y, z))
+    m = np.eye(4)
+    m[:3, 3] = t
+    return m
+
+
+def scale(sx: Any, sy: float | None = None, sz: float | None = None) -> M4:
+    """Scaling by ``sx`` on every axis, or by ``(sx, sy, sz)``; factors must be non-zero."""
+    if sy is None and sz is None:
+        s = (float(sx),) * 3 if np.ndim(sx) == 0 else vec3("factors", sx)
+    else:
+        s = vec3("factors", (sx, sy, sz))
+    if not all(math.isfinite(v) and v != 0 for v in s):
+        raise ValueError(f"factors: must be finite and non-zero, got {list(s)}")
+    return np.diag([s[0], s[1], s[2], 1.0])
+
+
+def rotate(axis: Any, degrees: float) -> M4:
+    """Rotation by ``degrees`` counter-clockwise about ``axis`` (right-hand rule; Rodrigues' formula)."""
+    a = np.array(vec3("axis", axis))
+    n = float(np.linalg.norm(a))
+    if not n > 0:
+        raise ValueError("axis: must not be zero")
+    x, y, z = a / n
+    t = math.radians(float(degrees))
+    c, s, k = math.cos(t), math.sin(t), 1 - math.cos(t)
+    m = np.eye(4)
+    m[:3, :3] = [
+        [c + x * x * k, x * y * k - z * s, x * z * k + y * s],
+        [y * x * k + z * s, c + y * y * k, y * z * k - x * s],
+        [z * x * k - y * s, z * y * k + x * s, c + z * z * k],
+    ]
+    return m
