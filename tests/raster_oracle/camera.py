@@ -78,7 +78,7 @@ class Camera:
     def perspective(
         cls,
         eye: ArrayLike,
-        target: ArrayLike,
+        target: ArrayLike = (0, 0, 0),
         up: ArrayLike = (0, 1, 0),
         fovy: float = 45.0,
         near: float = 0.1,
@@ -90,7 +90,7 @@ class Camera:
     def orthographic(
         cls,
         eye: ArrayLike,
-        target: ArrayLike,
+        target: ArrayLike = (0, 0, 0),
         up: ArrayLike = (0, 1, 0),
         height: float = 2.0,
         near: float = 0.1,

@@ -95,6 +95,8 @@ class Frame:
     instance_id: NDArray[np.int64]
     edge_dist: F64
     depth_gap: F64
+    #: per-pixel sensitivity of a buffer to the exact vertex positions (filled by the test bridge)
+    sensitivity: dict[str, F64] = field(default_factory=dict)
 
     @property
     def covered(self) -> NDArray[np.bool_]:
@@ -225,8 +227,10 @@ def _setup(
     height: int,
     cull_back_faces: bool,
     subpixel_bits: int | None,
+    jitter: tuple[float, np.random.Generator] | None = None,
 ) -> list[_Piece]:
-    """Clip, project, snap, cull: the screen triangles in submission order."""
+    """Clip, project, snap, cull: the screen triangles in submission order. ``jitter = (amplitude, rng)``
+    moves every snapped screen vertex by a uniform random offset (pixels) in each coordinate."""
     snap = None if subpixel_bits is None else float(2**subpixel_bits)
     pieces: list[_Piece] = []
     for k, (pw, _, faces) in enumerate(world):
@@ -238,6 +242,8 @@ def _setup(
                 xy = np.column_stack([(ndc[:, 0] + 1) / 2 * width, (1 - ndc[:, 1]) / 2 * height])
                 if snap is not None:
                     xy = np.round(xy * snap) / snap
+                if jitter is not None:
+                    xy = xy + jitter[1].uniform(-jitter[0], jitter[0], xy.shape)
                 area = (xy[1, 0] - xy[0, 0]) * (xy[2, 1] - xy[0, 1]) - (xy[2, 0] - xy[0, 0]) * (
                     xy[1, 1] - xy[0, 1]
                 )
@@ -303,11 +309,14 @@ def render(
     cull_back_faces: bool = True,
     subpixel_bits: int | None = 8,
     perspective_correct: bool = True,
+    jitter: tuple[float, np.random.Generator] | None = None,
 ) -> Frame:
     """Render ``scene`` seen by ``camera`` into a ``height`` x ``width`` frame.
 
     ``perspective_correct=False`` interpolates affinely in screen space (the seed's scanline
-    interpolation taken literally): only for showing that a test can tell the two apart."""
+    interpolation taken literally): only for showing that a test can tell the two apart. ``jitter``
+    (amplitude in pixels, generator) perturbs the screen vertices after snapping: rendering twice with
+    and without it measures how sensitive each pixel is to where exactly a renderer puts the vertices."""
     if shading not in ("flat", "gouraud", "phong", "quadratic"):
         raise ValueError(f"unknown shading {shading!r}")
     vp = camera.view_projection(width / height)
@@ -319,7 +328,7 @@ def render(
     ins = np.full((height, width), -1, dtype=np.int64)
     beta_buf = np.zeros((height, width, 3))
     pieces: list[_Piece] = []
-    for pc in _setup(world, vp, width, height, cull_back_faces, subpixel_bits):
+    for pc in _setup(world, vp, width, height, cull_back_faces, subpixel_bits, jitter):
         pieces.append(pc)
         got = _cover(pc, width, height)
         if got is None:
