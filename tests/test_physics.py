@@ -254,15 +254,16 @@ def test_schlick_limits() -> None:
 
 
 @pytest.mark.parametrize("eta", [1.4, 1.5, 1.6, 1.7, 1.8])
-def test_schlick_is_within_four_percent_of_exact_fresnel_for_glass(eta: float) -> None:
-    """Bound: |F_schlick - F_exact| <= 0.04 (absolute reflectance) at every angle for 1.4 <= eta <= 1.8.
-    Computed for this test: the worst gap is 0.036 at eta = 1.5 (near 85 degrees). The *relative* gap is
-    not small (up to ~23 % around 60-80 degrees, where F itself is small), so none is claimed."""
+def test_schlick_is_within_five_percent_of_exact_fresnel_for_glass(eta: float) -> None:
+    """Bound: |F_schlick - F_exact| <= 0.05 (absolute reflectance) at every angle for 1.4 <= eta <= 1.8.
+    Computed for this test (float64, 2e5 angles): the worst gap is 0.046 at eta = 1.4, 0.036 at 1.5,
+    0.032 at 1.6-1.7, 0.035 at 1.8, always near 84-85 degrees. The *relative* gap is not small (up to
+    ~23 % around 60-80 degrees, where F itself is small), so none is claimed."""
     c = np.linspace(0, 1, 2001, dtype=np.float32)
     exact = brdfpy.fresnel.dielectric(c, eta).astype(np.float64)
     approx = brdfpy.fresnel.schlick(c, brdfpy.fresnel.f0_from_ior(eta)).astype(np.float64)
     gap = np.abs(approx - exact)
-    assert gap.max() <= 0.04
+    assert gap.max() <= 0.05
     assert gap.max() > 0.005  # they are different functions: dielectric is not secretly Schlick
 
 
