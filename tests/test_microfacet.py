@@ -46,6 +46,8 @@ D_CASES: list[tuple[str, float, float | None]] = [
     ("blinn_phong", 0.6, None),
     ("ward", 0.2, None),
     ("ward", 0.1, 0.4),
+    ("ashikhmin_shirley", 20.0, None),
+    ("ashikhmin_shirley", 100.0, 10.0),
 ]
 
 
@@ -152,3 +154,31 @@ def test_refraction_obeys_snell() -> None:
     assert bool(np.asarray(ok).reshape(-1)[0])
     assert t[2] < 0 and abs(np.linalg.norm(t) - 1) < 1e-6
     assert abs(t[0]) == pytest.approx(0.6 / 1.5, rel=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("dist", "alpha"), [("ggx", 0.05), ("ggx", 0.6), ("beckmann", 0.1), ("beckmann", 0.9)]
+)
+def test_smith_lambda_and_g1_match_oracle(dist: str, alpha: float, rng: np.random.Generator) -> None:
+    n = unit(rng.normal(size=(3000, 3)))
+    w = hemisphere(rng, n, rng.uniform(0.01, 1, 3000))
+    lam = np.asarray(
+        brdfpy.microfacet.lambda_(w.astype(np.float32), n.astype(np.float32), alpha, distribution=dist)
+    )
+    g1 = np.asarray(
+        brdfpy.microfacet.g1(w.astype(np.float32), n.astype(np.float32), alpha, distribution=dist)
+    )
+    t, b = ovec.frame(n, None)
+    wx, wy, wz = omf.local(w, t, b, n)
+    want = om.smith_lambda(dist, wx, wy, wz, alpha)
+    # Lambda -> 0 toward the normal: compare with an absolute floor of 1e-6 there
+    np.testing.assert_allclose(lam, want, rtol=1e-3, atol=1e-6)
+    np.testing.assert_allclose(g1, 1 / (1 + want), rtol=1e-3, atol=1e-6)
+
+
+def test_mixture_is_the_normalised_weighted_sum(rng: np.random.Generator) -> None:
+    g = half_vectors(rng, 3000)
+    lobes = [(3.0, "beckmann", 0.1), (1.0, "ggx", 0.4)]
+    got = np.asarray(brdfpy.microfacet.mixture(lobes, g["h"], g["n"]))
+    want = 0.75 * oracle_d("beckmann", g, 0.1, None) + 0.25 * oracle_d("ggx", g, 0.4, None)
+    assert_close(got, want, what="mixture")

@@ -201,6 +201,8 @@ def d_projected_integral(name: str, alpha: float, alpha_y: float | None, n_mu: i
         ("blinn_phong", 0.5, None),
         ("ward", 0.2, None),
         ("ward", 0.1, 0.4),
+        ("ashikhmin_shirley", 20.0, None),
+        ("ashikhmin_shirley", 200.0, 8.0),
     ],
 )
 def test_distribution_projects_to_unit_area(name: str, alpha: float, alpha_y: float | None) -> None:

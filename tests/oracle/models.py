@@ -233,7 +233,9 @@ def distribution(name: str, hx: F64, hy: F64, hz: F64, alpha: float, alpha_y: fl
     if name == "ward":
         return mf.ward(hx, hy, hz, alpha, alpha_y)
     if name == "ashikhmin_shirley":
-        return mf.ashikhmin_shirley(hx, hy, hz, alpha, alpha_y)
+        # as a microfacet D it must project to unit area: sqrt((nu+2)(nv+2))/(2 pi), not the paper's
+        # half-vector pdf constant sqrt((nu+1)(nv+1))/(2 pi)
+        return mf.ashikhmin_shirley_projected(hx, hy, hz, alpha, alpha_y)
     raise ValueError(f"unknown distribution {name!r}")
 
 
