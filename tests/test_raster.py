@@ -328,3 +328,16 @@ def test_supersampling_is_the_box_filtered_finer_render() -> None:
     # contrast across the edge; at most a few such pixels)
     close = np.isclose(aa, boxed, rtol=1e-4, atol=1e-5).all(axis=-1)
     assert (~close).sum() <= 3, np.argwhere(~close)[:5]
+
+
+def test_save_writes_the_rgb_image_as_png(tmp_path: Any) -> None:
+    from PIL import Image as PILImage
+
+    spec = canonical(2)
+    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 40, 30)
+    path = tmp_path / "out.png"
+    img.save(path)
+    with PILImage.open(path) as f:
+        assert f.mode == "RGB" and f.size == (40, 30)
+        np.testing.assert_array_equal(np.asarray(f), img.rgb)
+    assert img._repr_png_()[:8] == b"\x89PNG\r\n\x1a\n"
