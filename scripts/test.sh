@@ -1,40 +1,50 @@
 #!/usr/bin/env bash
 # Every test of brdfpy, from a fresh clone: needs only Rust (cargo), Python >= 3.9 with pip, and the package
-# registries. Installs what the tests need from the project's own files, then runs, in order:
+# registries. Installs what the tests need from the project's own files (pyproject.toml), then runs
 #   cargo fmt --check, cargo clippy -D warnings (whole workspace), cargo test (brdf-core, brdf-raster),
-#   ruff check, ruff format --check, mypy --strict (python/brdfpy), pytest (tests/).
-# Stops at the first failure. CI (`.ci/run`) runs exactly this.
-set -euo pipefail
+#   ruff check, ruff format --check, mypy --strict (python/brdfpy), mypy.stubtest (the compiled module's
+#   stub), pytest (tests/).
+# Every step runs even after a failure, so one run shows every problem; the exit status is non-zero if any
+# step failed. CI (`.ci/run`) runs exactly this.
+set -uo pipefail
 cd "$(dirname "$0")/.."
 
 export PIP_ROOT_USER_ACTION=ignore PIP_DISABLE_PIP_VERSION_CHECK=1
-# Deterministic, thorough property tests in CI; quick ones locally.
+# Thorough property tests in CI (tests/conftest.py defines the profiles); quick ones locally.
 if [[ "${CI:-}" == "true" ]]; then export HYPOTHESIS_PROFILE="${HYPOTHESIS_PROFILE:-ci}"; fi
 
-step() { printf '\n==> %s\n' "$*"; }
+failed=()
+step() {
+    local name="$1"
+    shift
+    printf '\n==> %s\n' "$name"
+    local t0=$SECONDS
+    if "$@"; then
+        printf '<== %s: ok (%ds)\n' "$name" $((SECONDS - t0))
+    else
+        printf '<== %s: FAILED (%ds)\n' "$name" $((SECONDS - t0))
+        failed+=("$name")
+    fi
+}
 
-step "install: build the Rust extension (maturin, release) and the test tools"
-python -m pip install -q 'maturin>=1.9,<2'
-# --no-build-isolation: use the maturin just installed instead of fetching a second copy per build.
-python -m pip install -q --no-build-isolation -e '.[dev]'
+install() {
+    python -m pip install -q 'maturin>=1.9,<2' &&
+        # --no-build-isolation: build with the maturin just installed rather than fetching another copy.
+        python -m pip install -q --no-build-isolation -e '.[dev]'
+}
 
-step "cargo fmt --check"
-cargo fmt --all --check
+step "install (maturin release build of the extension, test tools)" install
+step "cargo fmt --check" cargo fmt --all --check
+step "cargo clippy -D warnings" cargo clippy --workspace --all-targets -- -D warnings
+step "cargo test" cargo test
+step "ruff check" ruff check .
+step "ruff format --check" ruff format --check .
+step "mypy --strict" mypy
+step "stubtest" python -m mypy.stubtest brdfpy._brdfpy --allowlist python/stubtest-allowlist.txt
+step "pytest" python -m pytest
 
-step "cargo clippy --workspace --all-targets -D warnings"
-cargo clippy --workspace --all-targets -- -D warnings
-
-step "cargo test (brdf-core, brdf-raster: the crates without Python)"
-cargo test
-
-step "ruff check"
-ruff check .
-
-step "ruff format --check"
-ruff format --check .
-
-step "mypy --strict (python/brdfpy)"
-mypy
-
-step "pytest"
-python -m pytest
+if ((${#failed[@]})); then
+    printf '\nFAILED steps: %s\n' "$(IFS=,; echo "${failed[*]}")"
+    exit 1
+fi
+printf '\nall steps passed\n'
