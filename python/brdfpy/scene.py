@@ -30,6 +30,9 @@ from brdfpy.models import Model
 
 __all__ = ["SHADING_MODES", "Instance", "ProgressBar", "Scene"]
 
+#: Tone-mapping operators accepted by :meth:`Scene.render`.
+TONEMAPS = ("clamp", "reinhard", "reinhard_extended", "aces")
+
 #: Shading algorithms of seed 004 accepted by :meth:`Scene.render`.
 SHADING_MODES = ("flat", "gouraud", "phong", "quadratic")
 
@@ -292,6 +295,8 @@ class Scene:
             raise TypeError(f"shading: expected one of {SHADING_MODES}, got {type(shading).__name__}")
         if not isinstance(tonemap, str):
             raise TypeError(f"tonemap: expected a name, got {type(tonemap).__name__}")
+        if tonemap.lower() not in TONEMAPS:
+            raise ValueError(f"tonemap: expected one of {', '.join(TONEMAPS)}, got {tonemap!r}")
         if isinstance(exposure, bool) or not isinstance(exposure, (int, float, np.integer, np.floating)):
             raise TypeError(f"exposure: expected a number, got {type(exposure).__name__}")
         if not self.instances:

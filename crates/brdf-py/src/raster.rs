@@ -552,10 +552,13 @@ pub struct RasterFrame {
 }
 
 fn operator(name: &str, white: Option<f32>) -> PyResult<Operator> {
-    Operator::from_name(name, white).map_err(|e| match e {
-        brdf_core::BrdfError::InvalidParameter { .. } => to_py(e),
-        _ => invalid(format!("tonemap: expected one of {}, got {name:?}", Operator::NAMES.join(", "))),
-    })
+    if !Operator::NAMES.contains(&name.to_ascii_lowercase().as_str()) {
+        return Err(invalid(format!(
+            "tonemap: expected one of {}, got {name:?}",
+            Operator::NAMES.join(", ")
+        )));
+    }
+    Operator::from_name(name, white).map_err(to_py)
 }
 
 #[pymethods]
