@@ -48,6 +48,8 @@ pub const BINS: usize = 16;
 pub const MAX_LEAF: usize = 8;
 /// Subtrees with more triangles than this are built in parallel.
 pub const PARALLEL_THRESHOLD: usize = 8192;
+/// Batches larger than this are traced in Morton order of the ray origins ([`Bvh::any_hits`]).
+pub const COHERENT_BATCH: usize = 4096;
 /// Depth below which nodes are split at the object median instead of by SAH (bounds the tree depth).
 pub const SAH_DEPTH_LIMIT: usize = 48;
 /// Cost of one traversal step relative to one triangle test, in the SAH.
@@ -139,8 +141,8 @@ impl Prepared {
     /// Entry distance into the box if the segment `[t_min, t_max]` meets it, else `f32::INFINITY`.
     #[inline(always)]
     fn slab(&self, n: &Node, t_max: f32) -> f32 {
-        let t1 = (Vec3A::from(n.min) - self.o) * self.inv;
-        let t2 = (Vec3A::from(n.max) - self.o) * self.inv;
+        let t1 = (n.min() - self.o) * self.inv;
+        let t2 = (n.max() - self.o) * self.inv;
         let near = t1.min(t2).max_element().max(self.t_min);
         let far = (t1.max(t2).min_element() * FAR_SCALE).min(t_max);
         if near <= far { near } else { f32::INFINITY }
@@ -201,15 +203,57 @@ pub fn is_degenerate(tri: &[Vec3; 3]) -> bool {
     (tri[1] - tri[0]).cross(tri[2] - tri[0]).length_squared() == 0.0
 }
 
+/// Shape of a [`Bvh`] (see [`Bvh::stats`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BvhStats {
+    /// Entries in the node array (including the unused pad at index 1).
+    pub nodes: usize,
+    /// Leaf nodes.
+    pub leaves: usize,
+    /// Largest number of triangles in a leaf.
+    pub max_leaf: usize,
+    /// Depth of the deepest leaf (root = 1).
+    pub max_depth: usize,
+    /// SAH cost `Σ_interior C_trav·A(n)/A(root) + Σ_leaves N·A(n)/A(root)`, in triangle tests.
+    pub sah_cost: f64,
+}
+
+fn half_area(n: &Node) -> f32 {
+    let e = (n.max() - n.min()).max(Vec3A::ZERO);
+    e.x * e.y + e.y * e.z + e.z * e.x
+}
+
 /// A node: its box, then either (leaf, `count > 0`) the first triangle in leaf order and the count, or
-/// (interior, `count == 0`) the index of the first of its two adjacent children.
+/// (interior, `count == 0`) the index of the first of its two adjacent children. Stored as two `Vec4`
+/// whose `w` lanes carry `first` and `count` as bit patterns, so a box loads as two aligned vectors.
 #[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(32))]
 struct Node {
-    min: Vec3,
-    first: u32,
-    max: Vec3,
-    count: u32,
+    lo: Vec4,
+    hi: Vec4,
+}
+
+impl Node {
+    #[inline]
+    fn new(min: Vec3A, max: Vec3A, first: u32, count: u32) -> Self {
+        Self { lo: min.extend(f32::from_bits(first)), hi: max.extend(f32::from_bits(count)) }
+    }
+    #[inline(always)]
+    fn min(&self) -> Vec3A {
+        Vec3A::from_vec4(self.lo)
+    }
+    #[inline(always)]
+    fn max(&self) -> Vec3A {
+        Vec3A::from_vec4(self.hi)
+    }
+    #[inline(always)]
+    fn first(&self) -> u32 {
+        self.lo.w.to_bits()
+    }
+    #[inline(always)]
+    fn count(&self) -> u32 {
+        self.hi.w.to_bits()
+    }
 }
 
 /// A primitive during the build: its box and its index in the input.
@@ -389,12 +433,7 @@ impl Bvh {
         nodes.try_reserve_exact(2 * refs.len().max(1)).map_err(|_| too_big("node array"))?;
         if refs.is_empty() {
             // Nothing to hit: one empty leaf with an inverted box that every slab test rejects.
-            nodes.push(Node {
-                min: Vec3::splat(f32::INFINITY),
-                max: Vec3::splat(f32::NEG_INFINITY),
-                first: 0,
-                count: 0,
-            });
+            nodes.push(Node::new(Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY), 0, 0));
             return Ok(Self { nodes, tris: Vec::new(), ids: Vec::new(), input_triangles: n });
         }
         let sub = build_sub(&mut refs, 0, 0);
@@ -428,7 +467,7 @@ impl Bvh {
 
     /// The scene box `(min, max)` of all non-degenerate triangles (inverted when there are none).
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        (self.nodes[0].min, self.nodes[0].max)
+        (self.nodes[0].min().into(), self.nodes[0].max().into())
     }
 
     /// The largest coordinate magnitude in the scene box (0 for an empty tree), the scale that
@@ -439,6 +478,31 @@ impl Bvh {
         }
         let (lo, hi) = self.bounds();
         lo.abs().max(hi.abs()).max_element()
+    }
+
+    /// Shape of the tree: node, leaf and depth counts and the SAH cost (for benchmarks and tuning).
+    pub fn stats(&self) -> BvhStats {
+        let mut st = BvhStats { nodes: self.nodes.len(), ..BvhStats::default() };
+        if self.tris.is_empty() {
+            return st;
+        }
+        let root_area = half_area(&self.nodes[0]).max(f32::MIN_POSITIVE) as f64;
+        let mut stack = vec![(0usize, 1usize)];
+        while let Some((i, depth)) = stack.pop() {
+            let nd = &self.nodes[i];
+            let rel = half_area(nd) as f64 / root_area;
+            st.max_depth = st.max_depth.max(depth);
+            if nd.count() > 0 {
+                st.leaves += 1;
+                st.max_leaf = st.max_leaf.max(nd.count() as usize);
+                st.sah_cost += rel * nd.count() as f64;
+            } else {
+                st.sah_cost += rel * f64::from(TRAVERSAL_COST);
+                stack.push((nd.first() as usize, depth + 1));
+                stack.push((nd.first() as usize + 1, depth + 1));
+            }
+        }
+        st
     }
 
     /// The closest hit on the segment, or `None` (ties: see the module docs).
@@ -453,9 +517,9 @@ impl Bvh {
         let mut sp = 0usize;
         let mut node = &self.nodes[0];
         loop {
-            if node.count > 0 {
-                let first = node.first as usize;
-                for i in first..first + node.count as usize {
+            if node.count() > 0 {
+                let first = node.first() as usize;
+                for i in first..first + node.count() as usize {
                     if let Some((t, u, v)) = pre.triangle(&self.tris[i], best_t) {
                         let id = self.ids[i];
                         // Smallest t; equal t → smallest id (independent of traversal order).
@@ -466,7 +530,7 @@ impl Bvh {
                     }
                 }
             } else {
-                let c = node.first as usize;
+                let c = node.first() as usize;
                 let (l, r) = (&self.nodes[c], &self.nodes[c + 1]);
                 let (dl, dr) = (pre.slab(l, best_t), pre.slab(r, best_t));
                 // Visit the nearer child first; keep the farther one with its entry distance.
@@ -506,32 +570,25 @@ impl Bvh {
         let mut sp = 0usize;
         let mut node = &self.nodes[0];
         loop {
-            if node.count > 0 {
-                let first = node.first as usize;
-                let tris = &self.tris[first..first + node.count as usize];
+            if node.count() > 0 {
+                let first = node.first() as usize;
+                let tris = &self.tris[first..first + node.count() as usize];
                 if tris.iter().any(|t| pre.triangle(t, t_max).is_some()) {
                     return true;
                 }
             } else {
-                let c = node.first as usize;
+                let c = node.first() as usize;
                 let (l, r) = (&self.nodes[c], &self.nodes[c + 1]);
-                let (hl, hr) = (pre.slab(l, t_max) != f32::INFINITY, pre.slab(r, t_max) != f32::INFINITY);
-                match (hl, hr) {
-                    (true, true) => {
-                        stack[sp] = (c + 1) as u32;
+                let (dl, dr) = (pre.slab(l, t_max), pre.slab(r, t_max));
+                // Nearer child first: an occluder is more likely found early there.
+                let (near, far, dn, df) = if dl <= dr { (c, c + 1, dl, dr) } else { (c + 1, c, dr, dl) };
+                if dn != f32::INFINITY {
+                    if df != f32::INFINITY {
+                        stack[sp] = far as u32;
                         sp += 1;
-                        node = l;
-                        continue;
                     }
-                    (true, false) => {
-                        node = l;
-                        continue;
-                    }
-                    (false, true) => {
-                        node = r;
-                        continue;
-                    }
-                    (false, false) => {}
+                    node = &self.nodes[near];
+                    continue;
                 }
             }
             if sp == 0 {
@@ -543,15 +600,59 @@ impl Bvh {
     }
 
     /// [`Bvh::closest_hit`] for every ray, in parallel; `out[i]` answers `rays[i]` (same result at any
-    /// thread count: each ray is independent).
+    /// thread count: each ray is independent). Large batches are traced in Morton order of their
+    /// origins (see [`Bvh::any_hits`]).
     pub fn closest_hits(&self, rays: &[Ray]) -> Vec<Option<Hit>> {
-        rays.par_iter().with_min_len(256).map(|r| self.closest_hit(r)).collect()
+        self.batch(rays, |r| self.closest_hit(r))
     }
 
-    /// [`Bvh::any_hit`] for every ray, in parallel.
+    /// [`Bvh::any_hit`] for every ray, in parallel; `out[i]` answers `rays[i]`.
+    ///
+    /// Batches of more than [`COHERENT_BATCH`] rays are traced sorted by the Morton code of their
+    /// origin (then their direction octant), so that consecutive rays walk the same nodes while those
+    /// are in cache — about twice as fast on random rays — and the answers are put back in input order.
     pub fn any_hits(&self, rays: &[Ray]) -> Vec<bool> {
-        rays.par_iter().with_min_len(256).map(|r| self.any_hit(r)).collect()
+        self.batch(rays, |r| self.any_hit(r))
     }
+
+    fn batch<T: Send + Copy + Default>(&self, rays: &[Ray], f: impl Fn(&Ray) -> T + Sync + Send) -> Vec<T> {
+        if rays.len() <= COHERENT_BATCH || self.tris.is_empty() {
+            return rays.par_iter().with_min_len(256).map(f).collect();
+        }
+        let (lo, hi) = (self.nodes[0].min(), self.nodes[0].max());
+        let scale =
+            Vec3A::select((hi - lo).cmpgt(Vec3A::ZERO), Vec3A::splat(1023.0) / (hi - lo), Vec3A::ZERO);
+        let mut keyed: Vec<(u64, u32)> = rays
+            .par_iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let q = ((Vec3A::from(r.origin) - lo) * scale).clamp(Vec3A::ZERO, Vec3A::splat(1023.0));
+                let m = spread_bits(q.x as u32) | spread_bits(q.y as u32) << 1 | spread_bits(q.z as u32) << 2;
+                let octant =
+                    u64::from(r.dir.x < 0.0) | u64::from(r.dir.y < 0.0) << 1 | u64::from(r.dir.z < 0.0) << 2;
+                ((m << 3) | octant, i as u32)
+            })
+            .collect();
+        // Keys are unique (they end in the ray index), so the order is fully determined.
+        keyed.par_sort_unstable();
+        let sorted: Vec<T> = keyed.par_iter().with_min_len(256).map(|&(_, i)| f(&rays[i as usize])).collect();
+        let mut out = vec![T::default(); rays.len()];
+        for (&(_, i), &v) in keyed.iter().zip(&sorted) {
+            out[i as usize] = v;
+        }
+        out
+    }
+}
+
+/// The 10 low bits of `x` spread to every third bit (Morton encoding).
+#[inline]
+fn spread_bits(x: u32) -> u64 {
+    let mut x = u64::from(x & 0x3ff);
+    x = (x | x << 16) & 0x0300_00ff;
+    x = (x | x << 8) & 0x0300_f00f;
+    x = (x | x << 4) & 0x030c_30c3;
+    x = (x | x << 2) & 0x0924_9249;
+    x
 }
 
 fn bounds_of(refs: &[PrimRef]) -> (Aabb, Aabb) {
@@ -585,18 +686,13 @@ fn build_seq(refs: &mut [PrimRef], base: usize, depth: usize, at: usize, nodes: 
     let (bounds, cbounds) = bounds_of(refs);
     match choose_split(refs, &bounds, &cbounds, depth) {
         None => {
-            nodes[at] = Node {
-                min: bounds.min.into(),
-                max: bounds.max.into(),
-                first: base as u32,
-                count: refs.len() as u32,
-            };
+            nodes[at] = Node::new(bounds.min, bounds.max, base as u32, refs.len() as u32);
         }
         Some(mid) => {
             let c = nodes.len();
             nodes.push(Node::default());
             nodes.push(Node::default());
-            nodes[at] = Node { min: bounds.min.into(), max: bounds.max.into(), first: c as u32, count: 0 };
+            nodes[at] = Node::new(bounds.min, bounds.max, c as u32, 0);
             let (l, r) = refs.split_at_mut(mid);
             build_seq(l, base, depth + 1, c, nodes);
             build_seq(r, base + mid, depth + 1, c + 1, nodes);
@@ -718,18 +814,19 @@ fn place(sub: Sub, at: usize, nodes: &mut Vec<Node>, root: bool) {
             let c = nodes.len();
             nodes.push(Node::default());
             nodes.push(Node::default());
-            nodes[at] = Node { min: bounds.min.into(), max: bounds.max.into(), first: c as u32, count: 0 };
+            nodes[at] = Node::new(bounds.min, bounds.max, c as u32, 0);
             place(*left, c, nodes, false);
             place(*right, c + 1, nodes, false);
         }
         Sub::Flat(local) => {
             // Local index k ≥ 1 lands at offset + k (local pairs start at 1, global ones at even indices).
             let offset = nodes.len() - 1;
-            let fix = |mut nd: Node| {
-                if nd.count == 0 {
-                    nd.first += offset as u32;
+            let fix = |nd: Node| {
+                if nd.count() == 0 {
+                    Node::new(nd.min(), nd.max(), nd.first() + offset as u32, 0)
+                } else {
+                    nd
                 }
-                nd
             };
             nodes[at] = fix(local[0]);
             nodes.extend(local[1..].iter().map(|&nd| fix(nd)));

@@ -232,3 +232,20 @@ fn results_do_not_depend_on_the_number_of_threads() {
     let bvh = Bvh::from_triangles(&tris).unwrap();
     assert_matches_brute_force(&tris, &bvh, &rays[..300]);
 }
+
+#[test]
+fn large_batches_traced_in_morton_order_answer_each_ray_in_input_order() {
+    // Above COHERENT_BATCH rays the batch functions sort the rays internally; every answer must still
+    // land at its ray's index and equal the single-ray query (itself checked against brute force).
+    let mut rng = Rng(5);
+    let tris = random_soup(&mut rng, 500, 0.2);
+    let bvh = Bvh::from_triangles(&tris).unwrap();
+    let rays = random_rays(&mut rng, brdf_raster::bvh::COHERENT_BATCH * 2 + 17);
+    let closest = bvh.closest_hits(&rays);
+    let any = bvh.any_hits(&rays);
+    for (i, r) in rays.iter().enumerate() {
+        assert_eq!(closest[i], bvh.closest_hit(r), "ray {i}");
+        assert_eq!(any[i], bvh.any_hit(r), "ray {i}");
+    }
+    assert_matches_brute_force(&tris, &bvh, &rays[..500]);
+}

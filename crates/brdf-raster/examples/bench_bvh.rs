@@ -1,0 +1,167 @@
+//! BVH and obscurance benchmark (not a test): build time, closest-hit and any-hit rays per second, and
+//! per-vertex obscurance time at 64 samples per vertex, at 1 and 2 threads, on the real meshes in
+//! `../shared/assets/meshes` (the Cyberware horse, ~97k triangles; the Newell teapot, ~516k) and on the
+//! 70k Stanford bunny subdivided 1→4 twice (~1.1M triangles, generated here, build time only).
+//!
+//! ```text
+//! cargo run --release -p brdf-raster --example bench_bvh [-- --quick]   # BRDFPY_ASSETS=dir overrides
+//! ```
+//!
+//! Rays start at random points on random triangles, offset along the face normal, in cosine-weighted
+//! directions around it (the obscurance pattern); "unbounded" rays run to infinity, "AO" rays stop at
+//! `d_max` = 10% of the mesh's bounding-box diagonal. Every figure is the best of a few repetitions.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use brdf_raster::Mesh;
+use brdf_raster::ao::{AoOptions, obscurance_per_vertex};
+use brdf_raster::bvh::{Bvh, Ray};
+use brdf_raster::io::load_mesh;
+use glam::Vec3;
+
+struct Rng(u64);
+impl Rng {
+    fn f32(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// `$BRDFPY_ASSETS` if set, else `../shared/assets/meshes` beside the workspace.
+fn assets() -> PathBuf {
+    std::env::var_os("BRDFPY_ASSETS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets/meshes"))
+}
+
+/// Best wall time of `reps` runs of `f` in a pool of `threads` threads [s].
+fn time<T: Send>(threads: usize, reps: usize, f: impl Fn() -> T + Sync) -> f64 {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+    (0..reps)
+        .map(|_| {
+            let t0 = Instant::now();
+            std::hint::black_box(pool.install(&f));
+            t0.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn surface_rays(mesh: &Mesh, n: usize, t_max: f32, seed: u64) -> Vec<Ray> {
+    let mut rng = Rng(seed);
+    let (lo, hi) = bounds(mesh);
+    let eps = 1e-4 * (hi - lo).length();
+    (0..n)
+        .map(|_| {
+            let f = ((rng.f32() * mesh.indices.len() as f32) as usize).min(mesh.indices.len() - 1);
+            let [a, b, c] = mesh.triangle(f);
+            let (mut u, mut v) = (rng.f32(), rng.f32());
+            if u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            let p = a + (b - a) * u + (c - a) * v;
+            let nrm = (b - a).cross(c - a).normalize_or(Vec3::Y);
+            let (t, s) = nrm.any_orthonormal_pair();
+            let (u1, u2) = (rng.f32(), rng.f32());
+            let r = u1.sqrt();
+            let phi = std::f32::consts::TAU * u2;
+            let d = t * (r * phi.cos()) + s * (r * phi.sin()) + nrm * (1.0 - u1).sqrt();
+            Ray::segment(p + nrm * eps, d, 0.0, t_max)
+        })
+        .collect()
+}
+
+fn bounds(mesh: &Mesh) -> (Vec3, Vec3) {
+    mesh.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)))
+}
+
+/// 1→4 midpoint subdivision (shape unchanged).
+fn subdivide(mesh: &Mesh) -> Mesh {
+    let mut p = mesh.positions.clone();
+    let mut mid = std::collections::HashMap::new();
+    let mut f = Vec::with_capacity(mesh.indices.len() * 4);
+    for t in &mesh.indices {
+        let mut m = [0u32; 3];
+        for k in 0..3 {
+            let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+            m[k] = *mid.entry((a, b)).or_insert_with(|| {
+                p.push((p[a as usize] + p[b as usize]) * 0.5);
+                (p.len() - 1) as u32
+            });
+        }
+        f.extend([[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], [m[0], m[1], m[2]]]);
+    }
+    Mesh::new(p, f, None).expect("subdivided mesh")
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let n_rays = if quick { 200_000 } else { 1_000_000 };
+    let reps = if quick { 1 } else { 3 };
+    println!("brdf-raster BVH benchmark ({n_rays} rays per query kind, best of {reps})");
+    for name in ["cyberware_horse.ply", "newell_teapot_n96.ply", "stanford_bunny_70k.ply"] {
+        let path = assets().join(name);
+        let Ok(mesh) = load_mesh(&path) else {
+            println!("{name}: not found under {}, skipped", assets().display());
+            continue;
+        };
+        let big = name.starts_with("stanford_bunny");
+        let mesh = if big { subdivide(&subdivide(&mesh)) } else { mesh };
+        let label = if big { "stanford_bunny_70k ×16 (subdivided)" } else { name };
+        println!("\n{label}: {} triangles, {} vertices", mesh.indices.len(), mesh.positions.len());
+        for threads in [1, 2] {
+            let t = time(threads, reps, || Bvh::from_mesh(&mesh).expect("bvh"));
+            println!("  build, {threads} thread(s): {:.3} s", t);
+        }
+        if big {
+            continue;
+        }
+        let bvh = Bvh::from_mesh(&mesh).expect("bvh");
+        println!("  tree: {:?}", bvh.stats());
+        let (lo, hi) = bounds(&mesh);
+        let d_max = 0.1 * (hi - lo).length();
+        let unbounded = surface_rays(&mesh, n_rays, f32::INFINITY, 1);
+        let ao_rays = surface_rays(&mesh, n_rays, d_max, 2);
+        let hit_share =
+            |rays: &[Ray]| bvh.any_hits(rays).iter().filter(|&&h| h).count() as f64 / rays.len() as f64;
+        println!(
+            "  rays hitting: unbounded {:.0}%, AO (d_max = {d_max:.3}) {:.0}%",
+            100.0 * hit_share(&unbounded),
+            100.0 * hit_share(&ao_rays)
+        );
+        for (kind, rays) in [("unbounded", &unbounded), ("AO", &ao_rays)] {
+            let mut line = format!("  {kind:>9}:");
+            let mut per_thread = [0.0; 2];
+            for (i, threads) in [1usize, 2].into_iter().enumerate() {
+                let tc = time(threads, reps, || bvh.closest_hits(rays));
+                let ta = time(threads, reps, || bvh.any_hits(rays));
+                per_thread[i] = ta;
+                line += &format!(
+                    "  {threads}T closest {:.2} M/s, any {:.2} M/s;",
+                    rays.len() as f64 / tc / 1e6,
+                    rays.len() as f64 / ta / 1e6
+                );
+            }
+            println!("{line}  any-hit 2T speed-up {:.2}×", per_thread[0] / per_thread[1]);
+        }
+        let opts = AoOptions { tau: 2.0, d_max, samples: 64, ..AoOptions::default() };
+        let mut ao_times = [0.0; 2];
+        for (i, threads) in [1usize, 2].into_iter().enumerate() {
+            ao_times[i] = time(threads, 1, || {
+                obscurance_per_vertex(&bvh, &mesh.positions, &mesh.normals, &opts).expect("obscurance")
+            });
+        }
+        let rays = mesh.positions.len() as f64 * 64.0;
+        println!(
+            "  per-vertex obscurance, 64 samples: 1T {:.2} s ({:.2} M rays/s), 2T {:.2} s ({:.2} M rays/s), speed-up {:.2}×",
+            ao_times[0],
+            rays / ao_times[0] / 1e6,
+            ao_times[1],
+            rays / ao_times[1] / 1e6,
+            ao_times[0] / ao_times[1]
+        );
+    }
+}
