@@ -237,6 +237,8 @@ class Peer:
         if self.proc.stdin:
             self.proc.stdin.close()
         self.proc.wait(timeout=30)
+        if self.proc.stdout:
+            self.proc.stdout.close()
 
 
 def peers_available(install: bool) -> str | None:
