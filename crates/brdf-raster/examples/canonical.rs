@@ -1,13 +1,23 @@
 //! Render SCENE.md's canonical scene, print the median frame time at 1 and 2 threads, write a PPM.
 //!
-//! `cargo run --release -p brdf-raster --example canonical -- [level] [width] [height] [frames] [out.ppm]`
-//! (defaults: 7 1920 1080 10 canonical.ppm). View the PPM with any image viewer, or convert it with
+//! `cargo run --release -p brdf-raster --example canonical -- [level] [width] [height] [frames] [out.ppm] [threads,...]`
+//! (defaults: 7 1920 1080 10 canonical.ppm 1,2). View the PPM with any image viewer, or convert it with
 //! `python -c "from PIL import Image; Image.open('canonical.ppm').save('canonical.png')"`.
 
 use std::time::Instant;
 
 use brdf_raster::scene::{canonical_camera, canonical_scene};
 use brdf_raster::{RenderOptions, render};
+
+/// CPU time (user + system) of this process in ms from `/proc/self/stat` (Linux; `None` elsewhere).
+/// On a shared machine the wall-clock time includes waiting for the cores; CPU time per frame does not.
+fn cpu_ms() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let after = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = after.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks * 10.0) // USER_HZ is 100 on Linux
+}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -17,6 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let height: u32 = arg(2, "1080").parse()?;
     let frames: usize = arg(3, "10").parse()?;
     let out = arg(4, "canonical.ppm");
+    let thread_counts: Vec<usize> = arg(5, "1,2").split(',').map(str::parse).collect::<Result<_, _>>()?;
 
     let scene = canonical_scene(level)?;
     let camera = canonical_camera();
@@ -24,12 +35,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("icosphere({level}): {} triangles, {width}×{height}", scene.face_count());
 
     let mut last = None;
-    for threads in [1usize, 2] {
+    for &threads in &thread_counts {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
         let times = pool.install(|| -> Result<Vec<f64>, brdf_raster::RasterError> {
             // One warm-up frame, then `frames` timed ones.
             render(&scene, &camera, &options)?;
-            (0..frames)
+            let cpu0 = cpu_ms();
+            let times = (0..frames)
                 .map(|_| {
                     let t = Instant::now();
                     let frame = render(&scene, &camera, &options)?;
@@ -37,7 +49,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     last = Some(frame);
                     Ok(dt)
                 })
-                .collect()
+                .collect::<Result<Vec<f64>, brdf_raster::RasterError>>()?;
+            if let (Some(a), Some(b)) = (cpu0, cpu_ms()) {
+                println!("{threads} thread(s): {:.1} ms CPU per frame", (b - a) / frames as f64);
+            }
+            Ok(times)
         })?;
         let mut sorted = times.clone();
         sorted.sort_by(f64::total_cmp);

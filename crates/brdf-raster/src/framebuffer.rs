@@ -44,13 +44,6 @@ pub(crate) struct BandOut<'a> {
 pub(crate) fn resolve_band(scratch: &BandScratch, s: usize, width: usize, out: BandOut<'_>) {
     let rows = out.depth.len() / width;
     let sw = width * s;
-    if s == 1 {
-        out.hdr.copy_from_slice(&scratch.hdr[..width * rows]);
-        out.depth.copy_from_slice(&scratch.depth[..width * rows]);
-        out.normal.copy_from_slice(&scratch.normal[..width * rows]);
-        out.triangle_id.copy_from_slice(&scratch.face[..width * rows]);
-        return;
-    }
     let inv = 1.0 / (s * s) as f32;
     for y in 0..rows {
         for x in 0..width {

@@ -25,20 +25,20 @@ use brdf_core::illumination::{SurfacePoint, Terms, radiance};
 use brdf_core::lights::Incident;
 use brdf_core::models::{Bxdf, ModelVisitor};
 use brdf_core::tonemap::Operator;
-use glam::{Mat3, Mat4, Vec3, Vec3A, Vec4};
+use glam::{DVec3, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use crate::RasterError;
 use crate::ao::AoOptions;
 use crate::camera::Camera;
-use crate::clip::{ClipVertex, GuardBand, clip_triangle, code};
+use crate::clip::{ClipVertex, GuardBand, MAX_POLY, clip_triangle, code};
 use crate::framebuffer::{BandOut, BandScratch, Frame, resolve_band};
 use crate::occlusion::SceneOcclusion;
 use crate::scene::Scene;
 use crate::setup::{Culling, SetupVertex, Viewport, setup_triangle};
 use crate::shading::{ShadingMode, face_normal, linear_normal, quadratic_normal};
 use crate::tiles::{
-    BAND_ROWS, CHUNK_FACES, Chunk, CoverageCount, DepthTest, MAX_CHUNKS, NO_TRI, raster_band, split_ref,
+    BAND_ROWS, CHUNK_FACES, Chunk, CoverageCount, DepthTest, LOCAL_BITS, MAX_CHUNKS, NO_TRI, raster_band,
 };
 
 /// Largest accepted image width or height in pixels.
@@ -201,10 +201,12 @@ pub fn render_with<O: Occlusion>(
     let mut frame = Frame {
         width: options.width,
         height: options.height,
-        hdr: vec![Vec3::ZERO; w * h],
-        depth: vec![1.0; w * h],
-        normal: vec![Vec3::ZERO; w * h],
-        triangle_id: vec![NO_TRI; w * h],
+        // Zeroed allocations (pages are mapped lazily, on first write, by the band that owns them);
+        // every element is overwritten by its band.
+        hdr: bytemuck::zeroed_vec(w * h),
+        depth: vec![0.0; w * h],
+        normal: bytemuck::zeroed_vec(w * h),
+        triangle_id: vec![0; w * h],
         tonemap: options.tonemap,
         exposure: options.exposure,
     };
@@ -219,9 +221,7 @@ pub fn render_with<O: Occlusion>(
         .zip(frame.triangle_id.par_chunks_mut(band_px))
         .enumerate()
         .for_each_init(BandScratch::default, |scratch, (band, (((hdr, depth), normal), triangle_id))| {
-            let rows = depth.len() / w;
-            prep.band(band, rows, scratch, occlusion);
-            resolve_band(scratch, prep.s, w, BandOut { hdr, depth, normal, triangle_id });
+            prep.band(band, scratch, BandOut { hdr, depth, normal, triangle_id }, occlusion);
             if let Some(cb) = progress {
                 cb((done.fetch_add(1, Ordering::Relaxed) + 1) as f32 / n_bands as f32);
             }
@@ -255,27 +255,28 @@ pub fn coverage_counts(
     Ok(counts)
 }
 
-/// A vertex after the vertex stage.
-#[derive(Debug, Clone, Copy)]
-struct Vertex {
-    world: Vec3,
-    normal: Vec3,
-    clip: Vec4,
-    code: u16,
-    /// Snapped screen position, valid when `code & MUST_CLIP == 0`.
+/// What triangle setup needs of a vertex (16 bytes, so the setup loop streams through little memory).
+#[derive(Debug, Clone, Copy, Default)]
+struct ScreenVertex {
+    /// Snapped screen position and window depth, valid when `code & MUST_CLIP == 0`.
     x: i32,
     y: i32,
     z: f32,
-    inv_w: f32,
+    code: u16,
 }
 
-impl Vertex {
+impl ScreenVertex {
     #[inline]
-    fn setup(&self, k: usize) -> SetupVertex {
-        let mut bary = Vec3::ZERO;
-        bary[k] = 1.0;
-        SetupVertex { x: i64::from(self.x), y: i64::from(self.y), z: self.z, inv_w: self.inv_w, bary }
+    fn setup(&self) -> SetupVertex {
+        SetupVertex { x: i64::from(self.x), y: i64::from(self.y), z: self.z }
     }
+}
+
+/// What shading needs of a vertex: world position and unit world normal.
+#[derive(Debug, Clone, Copy, Default)]
+struct WorldVertex {
+    p: Vec3,
+    n: Vec3,
 }
 
 /// Per-instance data of the frame.
@@ -289,15 +290,21 @@ struct InstanceData {
 /// Everything the bands need: transformed vertices, binned triangles, per-vertex colours.
 struct Prepared<'a> {
     scene: &'a Scene,
-    camera: &'a Camera,
     shading: ShadingMode,
     viewport: Viewport,
     s: usize,
     band_samples: u32,
-    vertices: Vec<Vertex>,
+    screen: Vec<ScreenVertex>,
+    clip: Vec<Vec4>,
+    world: Vec<WorldVertex>,
     instances: Vec<InstanceData>,
     /// Gouraud: the illumination at every vertex.
     vertex_color: Vec<Vec3>,
+    rays: Rays,
+    /// The eye, and `normalize(eye − target)`: the constant view vector of an orthographic camera.
+    eye: Vec3A,
+    backward: Vec3A,
+    ortho_view: Option<Vec3A>,
     chunks: Vec<Chunk>,
 }
 
@@ -316,18 +323,21 @@ impl<'a> Prepared<'a> {
         let guard = GuardBand::new(viewport.width, viewport.height);
         let view_proj = camera.view_projection(options.width as f32 / options.height as f32);
 
-        // Vertex stage.
+        // Vertex stage, written in parallel straight into three arrays.
+        let n_vertices: usize = scene.instances.iter().map(|i| i.mesh.positions.len()).sum();
+        let mut screen = vec![ScreenVertex::default(); n_vertices];
+        let mut clip = vec![Vec4::ZERO; n_vertices];
+        let mut world = vec![WorldVertex::default(); n_vertices];
         let mut instances = Vec::with_capacity(scene.instances.len());
-        let mut vertices: Vec<Vertex> =
-            Vec::with_capacity(scene.instances.iter().map(|i| i.mesh.positions.len()).sum());
-        let mut face_base = 0u32;
+        let (mut vertex_base, mut face_base) = (0usize, 0u32);
         for inst in &scene.instances {
             let m = inst.transform;
             let affine = m.row(3) == Vec4::W;
             let nm = inst.normal_matrix();
             let mesh = &inst.mesh;
+            let n = mesh.positions.len();
             instances.push(InstanceData {
-                vertex_base: vertices.len(),
+                vertex_base,
                 face_base,
                 mirrored: inst.mirrors(),
                 terms: Terms {
@@ -336,26 +346,43 @@ impl<'a> Prepared<'a> {
                     ambient_light: scene.ambient_light,
                 },
             });
+            let range = vertex_base..vertex_base + n;
+            screen[range.clone()]
+                .par_iter_mut()
+                .zip(clip[range.clone()].par_iter_mut())
+                .zip(world[range].par_iter_mut())
+                .zip(mesh.positions.par_iter().zip(mesh.normals.par_iter()))
+                .with_min_len(4096)
+                .for_each(|(((sv, cv), wv), (&p, &n))| {
+                    let p = if affine { m.transform_point3(p) } else { m.project_point3(p) };
+                    *wv = WorldVertex { p, n: (nm * n).normalize_or_zero() };
+                    *cv = view_proj * p.extend(1.0);
+                    let code = guard.outcode(*cv);
+                    *sv = ScreenVertex { code, ..ScreenVertex::default() };
+                    if code & code::MUST_CLIP == 0 {
+                        let snapped = viewport.snap(*cv);
+                        (sv.x, sv.y, sv.z) = (snapped.x as i32, snapped.y as i32, snapped.z);
+                    }
+                });
+            vertex_base += n;
             face_base += mesh.indices.len() as u32;
-            vertices.par_extend(
-                mesh.positions
-                    .par_iter()
-                    .zip(mesh.normals.par_iter())
-                    .with_min_len(4096)
-                    .map(|(&p, &n)| vertex_stage(p, n, &m, affine, &nm, &view_proj, &guard, viewport)),
-            );
         }
 
         let mut prep = Prepared {
             scene,
-            camera,
             shading: options.shading,
             viewport,
             s: s as usize,
             band_samples: BAND_ROWS * s,
-            vertices,
+            screen,
+            clip,
+            world,
             instances,
             vertex_color: Vec::new(),
+            rays: Rays::new(&view_proj, viewport),
+            eye: camera.eye.into(),
+            backward: camera.backward().into(),
+            ortho_view: camera.is_orthographic().then(|| camera.backward().into()),
             chunks: Vec::new(),
         };
         if prep.shading == ShadingMode::Gouraud {
@@ -387,30 +414,26 @@ impl<'a> Prepared<'a> {
         Ok(prep)
     }
 
-    /// Clip, cull and set up faces `start..end` of instance `k`.
+    /// Reject, clip, cull and set up faces `start..end` of instance `k`.
     fn setup_chunk(&self, k: usize, start: usize, end: usize, cull: bool, guard: &GuardBand) -> Chunk {
         let inst = &self.instances[k];
         let mesh = &self.scene.instances[k].mesh;
         let culling = Culling { back: cull, mirrored: inst.mirrored };
-        let verts = &self.vertices[inst.vertex_base..inst.vertex_base + mesh.positions.len()];
-        let mut chunk = Chunk::default();
-        chunk.raster.reserve(end - start);
-        chunk.interp.reserve(end - start);
+        let range = inst.vertex_base..inst.vertex_base + mesh.positions.len();
+        let (screen, clip) = (&self.screen[range.clone()], &self.clip[range]);
+        let mut chunk = Chunk { instance: k as u32, ..Chunk::default() };
+        chunk.raster.reserve((end - start) / 2);
+        chunk.interp.reserve((end - start) / 2);
         for (f, idx) in mesh.indices[start..end].iter().enumerate() {
             let face = (start + f) as u32;
-            let v = idx.map(|i| &verts[i as usize]);
-            let any = v[0].code | v[1].code | v[2].code;
+            let v = idx.map(|i| &screen[i as usize]);
             if v[0].code & v[1].code & v[2].code & code::REJECT != 0 {
                 continue;
             }
+            let any = v[0].code | v[1].code | v[2].code;
             if any & code::MUST_CLIP == 0 {
-                if let Some((r, i)) = setup_triangle(
-                    [v[0].setup(0), v[1].setup(1), v[2].setup(2)],
-                    self.viewport,
-                    culling,
-                    face,
-                    k as u32,
-                ) {
+                let tri = [v[0].setup(), v[1].setup(), v[2].setup()];
+                if let Some((r, i)) = setup_triangle(tri, self.viewport, culling, face, k as u32) {
                     chunk.raster.push(r);
                     chunk.interp.push(i);
                 }
@@ -419,22 +442,19 @@ impl<'a> Prepared<'a> {
             let tri = [0, 1, 2].map(|j| {
                 let mut bary = Vec3::ZERO;
                 bary[j] = 1.0;
-                ClipVertex { pos: v[j].clip, bary }
+                ClipVertex { pos: clip[idx[j] as usize], bary }
             });
             let poly = clip_triangle(tri, any & code::MUST_CLIP, guard);
             if poly.len < 3 {
                 continue;
             }
-            let snapped: Vec<SetupVertex> =
-                poly.v[..poly.len].iter().map(|c| self.viewport.snap(c.pos, c.bary)).collect();
+            let mut snapped = [SetupVertex { x: 0, y: 0, z: 0.0 }; MAX_POLY];
+            for (s, c) in snapped.iter_mut().zip(&poly.v[..poly.len]) {
+                *s = self.viewport.snap(c.pos);
+            }
             for j in 1..poly.len - 1 {
-                if let Some((r, i)) = setup_triangle(
-                    [snapped[0], snapped[j], snapped[j + 1]],
-                    self.viewport,
-                    culling,
-                    face,
-                    k as u32,
-                ) {
+                let tri = [snapped[0], snapped[j], snapped[j + 1]];
+                if let Some((r, i)) = setup_triangle(tri, self.viewport, culling, face, k as u32) {
                     chunk.raster.push(r);
                     chunk.interp.push(i);
                 }
@@ -445,41 +465,36 @@ impl<'a> Prepared<'a> {
 
     /// Gouraud: the illumination model at every vertex with its vertex normal.
     fn vertex_colors<O: Occlusion>(&self, occlusion: &O) -> Vec<Vec3> {
-        let mut out = vec![Vec3::ZERO; self.vertices.len()];
+        struct Job<'b, O> {
+            prep: &'b Prepared<'b>,
+            k: usize,
+            out: &'b mut [Vec3],
+            occlusion: &'b O,
+        }
+        impl<O: Occlusion> ModelVisitor for Job<'_, O> {
+            type Output = ();
+            fn visit<M: Bxdf>(self, m: &M) {
+                let data = &self.prep.instances[self.k];
+                let world = &self.prep.world[data.vertex_base..];
+                let colors = self.prep.scene.instances[self.k].mesh.colors.as_deref();
+                self.out.par_iter_mut().enumerate().with_min_len(1024).for_each(|(i, out)| {
+                    let at = ShadePoint {
+                        p: world[i].p,
+                        n: world[i].n,
+                        instance: self.k as u32,
+                        face: NO_TRI,
+                        vertex: i as u32,
+                        bary: Vec3::ZERO,
+                    };
+                    *out = self.prep.illuminate(m, &data.terms, &at, colors.map(|c| c[i]), self.occlusion);
+                });
+            }
+        }
+        let mut out = vec![Vec3::ZERO; self.world.len()];
         for (k, inst) in self.scene.instances.iter().enumerate() {
-            let data = &self.instances[k];
-            let n = inst.mesh.positions.len();
-            let colors = inst.mesh.colors.as_deref();
-            struct Job<'b, O> {
-                prep: &'b Prepared<'b>,
-                k: usize,
-                colors: Option<&'b [Vec3]>,
-                out: &'b mut [Vec3],
-                occlusion: &'b O,
-            }
-            impl<O: Occlusion> ModelVisitor for Job<'_, O> {
-                type Output = ();
-                fn visit<M: Bxdf>(self, m: &M) {
-                    let data = &self.prep.instances[self.k];
-                    let verts = &self.prep.vertices[data.vertex_base..];
-                    self.out.par_iter_mut().enumerate().with_min_len(1024).for_each(|(i, out)| {
-                        let vx = &verts[i];
-                        let n = vx.normal;
-                        let at = ShadePoint {
-                            p: vx.world,
-                            n,
-                            instance: self.k as u32,
-                            face: NO_TRI,
-                            vertex: i as u32,
-                            bary: Vec3::ZERO,
-                        };
-                        let tint = self.colors.map(|c| c[i]);
-                        *out = self.prep.illuminate(m, &data.terms, &at, tint, self.occlusion);
-                    });
-                }
-            }
-            let out_slice = &mut out[data.vertex_base..data.vertex_base + n];
-            inst.material.model.visit(Job { prep: self, k, colors, out: out_slice, occlusion });
+            let base = self.instances[k].vertex_base;
+            let out = &mut out[base..base + inst.mesh.positions.len()];
+            inst.material.model.visit(Job { prep: self, k, out, occlusion });
         }
         out
     }
@@ -495,7 +510,10 @@ impl<'a> Prepared<'a> {
         tint: Option<Vec3>,
         occlusion: &O,
     ) -> Vec3 {
-        let v: Vec3A = self.camera.view_vector(at.p).into();
+        let v = match self.ortho_view {
+            Some(v) => v,
+            None => (self.eye - Vec3A::from(at.p)).normalize_or(self.backward),
+        };
         let sp = SurfacePoint { p: at.p, n: at.n.into(), v, tangent: None };
         let w = occlusion.obscurance(at);
         let vis = |j: usize, inc: &Incident| occlusion.visibility(at, j, inc);
@@ -509,174 +527,306 @@ impl<'a> Prepared<'a> {
         }
     }
 
-    /// Coverage and shading of one band (`rows` image rows) into `scratch` at the sample resolution.
-    fn band<O: Occlusion>(&self, band: usize, rows: usize, scratch: &mut BandScratch, occlusion: &O) {
+    /// Coverage, shading and resolve of one band into its output slices. Without supersampling the
+    /// band is drawn straight into the frame's slices; otherwise into sample-resolution scratch
+    /// buffers that are then box-filtered.
+    fn band<O: Occlusion>(&self, band: usize, scratch: &mut BandScratch, out: BandOut<'_>, occlusion: &O) {
         let ws = self.viewport.width as usize;
-        let rows_s = rows * self.s;
+        let width = ws / self.s;
+        let rows_s = out.depth.len() / width * self.s;
         let row0 = (band * BAND_ROWS as usize * self.s) as i32;
-        scratch.reset(rows_s * ws);
-        let BandScratch { depth, tri, hdr, normal, face } = scratch;
-        raster_band(&self.chunks, band, row0, rows_s as i32, ws, &mut DepthTest { depth, tri });
-
-        // Group the covered samples by instance (stable), so each material's model is dispatched once.
-        let mut samples: Vec<u32> = Vec::new();
-        let mut single = None;
-        let mut mixed = false;
-        for (i, (&t, h)) in tri.iter().zip(hdr.iter_mut()).enumerate() {
-            if t == NO_TRI {
-                *h = self.scene.background;
-                normal[i] = Vec3::ZERO;
-                face[i] = NO_TRI;
-                continue;
-            }
-            let inst = self.interp(t).instance;
-            match single {
-                None => single = Some(inst),
-                Some(s) if s != inst => mixed = true,
-                _ => {}
-            }
-            samples.push(i as u32);
-        }
-        let Some(first) = single else { return };
-        if mixed {
-            samples.sort_by_key(|&i| self.interp(tri[i as usize]).instance);
-        }
-        let mut start = 0;
-        while start < samples.len() {
-            let k = if mixed { self.interp(tri[samples[start] as usize]).instance } else { first };
-            let end = if mixed {
-                start + samples[start..].partition_point(|&i| self.interp(tri[i as usize]).instance == k)
-            } else {
-                samples.len()
-            };
-            let job = ShadeSamples {
-                prep: self,
-                k: k as usize,
-                samples: &samples[start..end],
-                tri,
-                hdr,
-                normal,
-                face,
+        let n = rows_s * ws;
+        if self.s == 1 {
+            out.depth.fill(1.0);
+            scratch.tri.clear();
+            scratch.tri.resize(n, NO_TRI);
+            let tri = &mut scratch.tri;
+            raster_band(
+                &self.chunks,
+                band,
                 row0,
-                width: ws,
-                occlusion,
-            };
-            self.scene.instances[k as usize].material.model.visit(job);
-            start = end;
+                rows_s as i32,
+                ws,
+                &mut DepthTest { depth: out.depth, tri },
+            );
+            self.shade(band, row0, ws, &scratch.tri, out.hdr, out.normal, out.triangle_id, occlusion);
+        } else {
+            scratch.reset(n);
+            let BandScratch { depth, tri, hdr, normal, face } = scratch;
+            raster_band(&self.chunks, band, row0, rows_s as i32, ws, &mut DepthTest { depth, tri });
+            self.shade(band, row0, ws, tri, hdr, normal, face, occlusion);
+            resolve_band(scratch, self.s, width, out);
         }
     }
 
-    #[inline(always)]
-    fn interp(&self, t: u32) -> &crate::setup::InterpTri {
-        let (c, l) = split_ref(t);
-        &self.chunks[c].interp[l]
+    /// Shade a band (`ws` samples wide, first sample row `row0`) from its visibility buffer `tri`.
+    ///
+    /// Shading runs triangle by triangle in submission order — each triangle's visible samples are found
+    /// by scanning its bounding box for its id — rather than sample by sample: a triangle's vertex data
+    /// is then fetched once and in mesh order (cache-friendly), per-triangle terms (flat colour, ray
+    /// set-up, quadratic coefficients) are computed once, and a chunk (one instance) dispatches its
+    /// material's model once.
+    fn shade<O: Occlusion>(
+        &self,
+        band: usize,
+        row0: i32,
+        ws: usize,
+        tri: &[u32],
+        hdr: &mut [Vec3],
+        normal: &mut [Vec3],
+        face: &mut [u32],
+        occlusion: &O,
+    ) {
+        for ((&t, h), (n, f)) in tri.iter().zip(hdr.iter_mut()).zip(normal.iter_mut().zip(face.iter_mut())) {
+            if t == NO_TRI {
+                *h = self.scene.background;
+                *n = Vec3::ZERO;
+                *f = NO_TRI;
+            }
+        }
+        let rows = (tri.len() / ws) as i32;
+        for (ci, chunk) in self.chunks.iter().enumerate() {
+            let list = chunk.band(band);
+            if list.is_empty() {
+                continue;
+            }
+            let k = chunk.instance as usize;
+            let job = ShadeChunk {
+                prep: self,
+                k,
+                base: (ci as u32) << LOCAL_BITS,
+                chunk,
+                list,
+                tri,
+                hdr: &mut *hdr,
+                normal: &mut *normal,
+                face: &mut *face,
+                row0,
+                rows,
+                ws,
+                occlusion,
+            };
+            self.scene.instances[k].material.model.visit(job);
+        }
     }
 }
 
-/// Shade the samples of one instance in a band, with the model known at compile time.
-struct ShadeSamples<'b, O> {
+/// Shade the samples of one chunk's triangles in a band, with the model known at compile time.
+struct ShadeChunk<'b, O> {
     prep: &'b Prepared<'b>,
     k: usize,
-    samples: &'b [u32],
+    base: u32,
+    chunk: &'b Chunk,
+    list: &'b [u16],
     tri: &'b [u32],
     hdr: &'b mut [Vec3],
     normal: &'b mut [Vec3],
     face: &'b mut [u32],
     row0: i32,
-    width: usize,
+    rows: i32,
+    ws: usize,
     occlusion: &'b O,
 }
 
-impl<O: Occlusion> ModelVisitor for ShadeSamples<'_, O> {
+impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
     type Output = ();
 
     fn visit<M: Bxdf>(self, m: &M) {
         let prep = self.prep;
         let data = &prep.instances[self.k];
-        let inst = &prep.scene.instances[self.k];
-        let indices = &inst.mesh.indices;
-        let colors = inst.mesh.colors.as_deref();
-        let verts = &prep.vertices[data.vertex_base..];
+        let mesh = &prep.scene.instances[self.k].mesh;
+        let colors = mesh.colors.as_deref();
+        let world = &prep.world[data.vertex_base..];
         let vcolor =
             if prep.vertex_color.is_empty() { &[][..] } else { &prep.vertex_color[data.vertex_base..] };
-        for &i in self.samples {
-            let i = i as usize;
-            let it = prep.interp(self.tri[i]);
-            let (c, r) = ((i % self.width) as i32, self.row0 + (i / self.width) as i32);
-            let b = it.bary(c, r);
-            let idx = indices[it.face as usize];
-            let v = idx.map(|j| &verts[j as usize]);
-            let p = [v[0].world, v[1].world, v[2].world];
-            let nv = [v[0].normal, v[1].normal, v[2].normal];
-            let tint = colors.map(|col| {
-                col[idx[0] as usize] * b.x + col[idx[1] as usize] * b.y + col[idx[2] as usize] * b.z
-            });
-            let (color, n) = match prep.shading {
-                ShadingMode::Gouraud => {
-                    let cv = idx.map(|j| vcolor[j as usize]);
-                    (cv[0] * b.x + cv[1] * b.y + cv[2] * b.z, linear_normal(nv, b).normalize_or_zero())
-                }
-                mode => {
-                    let (pos, n, tint) = match mode {
-                        ShadingMode::Flat => {
-                            let n = face_normal(p);
-                            let n = if data.mirrored { -n } else { n };
-                            let centroid = (p[0] + p[1] + p[2]) / 3.0;
-                            let tint = colors.map(|col| {
-                                (col[idx[0] as usize] + col[idx[1] as usize] + col[idx[2] as usize]) / 3.0
-                            });
-                            (centroid, n, tint)
+        for &local in self.list {
+            let id = self.base | u32::from(local);
+            let t = &self.chunk.raster[local as usize];
+            let (r_first, r_last) = (t.min_y.max(self.row0), t.max_y.min(self.row0 + self.rows - 1));
+            // Per-triangle data, fetched when the first visible sample is found (many triangles lose
+            // the depth test everywhere and need none of it).
+            let mut tri_data: Option<TriangleData> = None;
+            for r in r_first..=r_last {
+                let row = (r - self.row0) as usize * self.ws;
+                for c in t.min_x..=t.max_x {
+                    let i = row + c as usize;
+                    if self.tri[i] != id {
+                        continue;
+                    }
+                    let td = tri_data.get_or_insert_with(|| {
+                        let f = self.chunk.interp[local as usize].face;
+                        let k = self.k as u32;
+                        TriangleData::new(
+                            prep,
+                            m,
+                            data,
+                            k,
+                            f,
+                            mesh.indices[f as usize],
+                            world,
+                            colors,
+                            self.occlusion,
+                        )
+                    });
+                    let b = prep.rays.barycentrics(c, r, &td.ray);
+                    let (color, n) = match prep.shading {
+                        ShadingMode::Flat => (td.flat_color, td.face_normal),
+                        ShadingMode::Gouraud => {
+                            let cv = td.idx.map(|j| vcolor[j as usize]);
+                            (
+                                cv[0] * b.x + cv[1] * b.y + cv[2] * b.z,
+                                linear_normal(td.n, b).normalize_or_zero(),
+                            )
                         }
-                        ShadingMode::QuadraticNormals => (
-                            p[0] * b.x + p[1] * b.y + p[2] * b.z,
-                            quadratic_normal(p, nv, b).normalize_or_zero(),
-                            tint,
-                        ),
-                        _ => (
-                            p[0] * b.x + p[1] * b.y + p[2] * b.z,
-                            linear_normal(nv, b).normalize_or_zero(),
-                            tint,
-                        ),
+                        mode => {
+                            let pos = td.p[0] * b.x + td.p[1] * b.y + td.p[2] * b.z;
+                            let n = if mode == ShadingMode::QuadraticNormals {
+                                quadratic_normal(td.p, td.n, b)
+                            } else {
+                                linear_normal(td.n, b)
+                            }
+                            .normalize_or_zero();
+                            let tint = colors.map(|col| {
+                                col[td.idx[0] as usize] * b.x
+                                    + col[td.idx[1] as usize] * b.y
+                                    + col[td.idx[2] as usize] * b.z
+                            });
+                            let at = ShadePoint {
+                                p: pos,
+                                n,
+                                instance: self.k as u32,
+                                face: td.face,
+                                vertex: NO_TRI,
+                                bary: b,
+                            };
+                            (prep.illuminate(m, &data.terms, &at, tint, self.occlusion), n)
+                        }
                     };
-                    let at = ShadePoint {
-                        p: pos,
-                        n,
-                        instance: self.k as u32,
-                        face: it.face,
-                        vertex: NO_TRI,
-                        bary: b,
-                    };
-                    (prep.illuminate(m, &data.terms, &at, tint, self.occlusion), n)
+                    self.hdr[i] = color;
+                    self.normal[i] = n;
+                    self.face[i] = data.face_base + td.face;
                 }
-            };
-            self.hdr[i] = color;
-            self.normal[i] = n;
-            self.face[i] = data.face_base + it.face;
+            }
         }
     }
 }
 
-/// World position and normal, clip position, outcode and (when inside the guard band) the snapped
-/// screen position of one vertex.
-#[inline]
-fn vertex_stage(
-    p: Vec3,
-    n: Vec3,
-    m: &Mat4,
-    affine: bool,
-    nm: &Mat3,
-    view_proj: &Mat4,
-    guard: &GuardBand,
-    viewport: Viewport,
-) -> Vertex {
-    let world = if affine { m.transform_point3(p) } else { m.project_point3(p) };
-    let normal = (*nm * n).normalize_or_zero();
-    let clip = *view_proj * world.extend(1.0);
-    let code = guard.outcode(clip);
-    let (mut x, mut y, mut z, mut inv_w) = (0, 0, 0.0, 0.0);
-    if code & code::MUST_CLIP == 0 {
-        let sv = viewport.snap(clip, Vec3::ZERO);
-        (x, y, z, inv_w) = (sv.x as i32, sv.y as i32, sv.z, sv.inv_w);
+/// What shading needs of one mesh face, gathered once per triangle.
+struct TriangleData {
+    face: u32,
+    idx: [u32; 3],
+    p: [Vec3; 3],
+    n: [Vec3; 3],
+    ray: RayTriangle,
+    face_normal: Vec3,
+    /// Flat shading: the illumination model at the centroid with the face normal.
+    flat_color: Vec3,
+}
+
+impl TriangleData {
+    #[inline(always)]
+    fn new<M: Bxdf, O: Occlusion>(
+        prep: &Prepared<'_>,
+        m: &M,
+        data: &InstanceData,
+        instance: u32,
+        face: u32,
+        idx: [u32; 3],
+        world: &[WorldVertex],
+        colors: Option<&[Vec3]>,
+        occlusion: &O,
+    ) -> Self {
+        let v = idx.map(|j| world[j as usize]);
+        let p = [v[0].p, v[1].p, v[2].p];
+        let fnorm = face_normal(p);
+        let face_normal = if data.mirrored { -fnorm } else { fnorm };
+        let mut flat_color = Vec3::ZERO;
+        if prep.shading == ShadingMode::Flat {
+            let centroid = (p[0] + p[1] + p[2]) / 3.0;
+            let tint = colors.map(|c| (c[idx[0] as usize] + c[idx[1] as usize] + c[idx[2] as usize]) / 3.0);
+            let at = ShadePoint {
+                p: centroid,
+                n: face_normal,
+                instance,
+                face,
+                vertex: NO_TRI,
+                bary: Vec3::splat(1.0 / 3.0),
+            };
+            flat_color = prep.illuminate(m, &data.terms, &at, tint, occlusion);
+        }
+        Self { face, idx, p, n: [v[0].n, v[1].n, v[2].n], ray: RayTriangle::new(p), face_normal, flat_color }
     }
-    Vertex { world, normal, clip, code, x, y, z, inv_w }
+}
+
+/// A triangle prepared for ray intersection in f64 (Möller–Trumbore).
+struct RayTriangle {
+    p0: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+}
+
+impl RayTriangle {
+    fn new(p: [Vec3; 3]) -> Self {
+        let p0 = p[0].as_dvec3();
+        Self { p0, e1: p[1].as_dvec3() - p0, e2: p[2].as_dvec3() - p0 }
+    }
+}
+
+/// The view ray of every sample, for perspective-correct barycentrics: the ray through sample
+/// `(c, r)` is `o + t·d` with `o` on the near plane and `d` toward the far plane, both affine in the
+/// sample's NDC `(x_n, y_n)` (the inverse of a perspective or orthographic projection has a `w` row
+/// independent of x and y), so they are built from three unprojected points in f64.
+#[derive(Debug, Clone, Copy)]
+struct Rays {
+    o: DVec3,
+    o_x: DVec3,
+    o_y: DVec3,
+    d: DVec3,
+    d_x: DVec3,
+    d_y: DVec3,
+    sx: f64,
+    sy: f64,
+}
+
+impl Rays {
+    fn new(view_proj: &Mat4, viewport: Viewport) -> Self {
+        let inv = view_proj.as_dmat4().inverse();
+        let un = |x: f64, y: f64, z: f64| inv.project_point3(DVec3::new(x, y, z));
+        let (o, f) = (un(0.0, 0.0, -1.0), un(0.0, 0.0, 1.0));
+        let (ox, fx) = (un(1.0, 0.0, -1.0), un(1.0, 0.0, 1.0));
+        let (oy, fy) = (un(0.0, 1.0, -1.0), un(0.0, 1.0, 1.0));
+        let d = f - o;
+        Self {
+            o,
+            o_x: ox - o,
+            o_y: oy - o,
+            d,
+            d_x: (fx - ox) - d,
+            d_y: (fy - oy) - d,
+            sx: 2.0 / f64::from(viewport.width),
+            sy: 2.0 / f64::from(viewport.height),
+        }
+    }
+
+    /// Barycentrics of the point where the ray of sample `(c, r)` meets the plane of triangle `p`
+    /// (Möller–Trumbore in f64); the centroid if the ray is parallel to the plane. Slightly outside
+    /// [0, 1] for samples the snapped triangle covers beyond the exact one, as GL extrapolates too.
+    #[inline(always)]
+    fn barycentrics(&self, c: i32, r: i32, tri: &RayTriangle) -> Vec3 {
+        let xn = (f64::from(c) + 0.5) * self.sx - 1.0;
+        let yn = 1.0 - (f64::from(r) + 0.5) * self.sy;
+        let o = self.o + xn * self.o_x + yn * self.o_y;
+        let d = self.d + xn * self.d_x + yn * self.d_y;
+        let (p0, e1, e2) = (tri.p0, tri.e1, tri.e2);
+        let pv = d.cross(e2);
+        let det = e1.dot(pv);
+        if det == 0.0 || !det.is_finite() {
+            return Vec3::splat(1.0 / 3.0);
+        }
+        let inv = 1.0 / det;
+        let t = o - p0;
+        let u = t.dot(pv) * inv;
+        let v = d.dot(t.cross(e1)) * inv;
+        Vec3::new((1.0 - u - v) as f32, u as f32, v as f32)
+    }
 }

@@ -28,15 +28,22 @@
 //! edge of two triangles of equal orientation has opposite `(dx, dy)` in each, exactly one of them
 //! owns the samples on it: every sample is covered exactly once (watertight).
 //!
-//! ## Attribute planes
-//! Every interpolated quantity `a` of the triangle is described by a plane `a(c, r) = a0 + (c−c0)·dadx
-//! + (r−r0)·dady` over sample coordinates, anchored at the first sample `(c0, r0)` of the bounding box.
-//! Depth `z_window = (z_ndc + 1)/2` is affine in screen space. Barycentrics are interpolated
-//! perspective-correctly: the planes hold `q_i = b_i / w` (`b_i` the barycentric coordinate with
-//! respect to the *original* mesh triangle, so clipped pieces interpolate the original vertices), and
-//! `b_i = q_i / (q_0 + q_1 + q_2)` at a sample.
+//! ## Depth and attributes
+//! Window depth `z_window = (z_ndc + 1)/2` is affine in screen space: a plane
+//! `z(c, r) = z0 + (c−c0)·dzdx + (r−r0)·dzdy` over sample coordinates, anchored at the first sample
+//! `(c0, r0)` of the bounding box, fitted in f64 through the snapped vertices.
+//!
+//! The other attributes are not interpolated from screen-space planes: the shading pass intersects the
+//! sample's view ray with the original (unclipped, unsnapped) world-space triangle and uses the
+//! barycentrics of the hit (see `render.rs`). That is exactly perspective-correct interpolation — the
+//! `b_i/w` over `1/w` of GL's `smooth` qualifier, which is the ray–plane intersection written in
+//! screen space — but computed in f64 from the real vertices, so triangles seen almost edge-on
+//! (the silhouette of a sphere) keep accurate normals where screen-space planes through snapped
+//! vertices are ill-conditioned. (GL implementations likewise fit attribute planes to the float
+//! positions, not the snapped ones; llvmpipe's `lp_setup_tri.c`.) Clipped pieces need no extra
+//! bookkeeping: they refer to their original face.
 
-use glam::{Vec3, Vec4};
+use glam::Vec4;
 
 /// Sub-pixel precision in bits.
 pub const SUBPIXEL_BITS: u32 = 8;
@@ -53,8 +60,7 @@ pub struct Viewport {
     pub height: u32,
 }
 
-/// A vertex ready for setup: snapped screen position, window depth, `1/w`, and barycentric
-/// coordinates in the original triangle.
+/// A vertex ready for setup: snapped screen position and window depth.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SetupVertex {
     /// Screen x in 1/256 sample units.
@@ -63,10 +69,6 @@ pub struct SetupVertex {
     pub y: i64,
     /// Window depth `(z_ndc + 1)/2`.
     pub z: f32,
-    /// `1/w_clip`.
-    pub inv_w: f32,
-    /// Barycentric coordinates in the original triangle.
-    pub bary: Vec3,
 }
 
 impl Viewport {
@@ -74,7 +76,7 @@ impl Viewport {
     /// the guard band (see [`crate::clip`]), snapped to fixed point. Computed in f64 so that the snap
     /// is exact to the rounding of the f32 inputs.
     #[inline]
-    pub fn snap(&self, c: Vec4, bary: Vec3) -> SetupVertex {
+    pub fn snap(&self, c: Vec4) -> SetupVertex {
         let inv_w = 1.0 / f64::from(c.w);
         let xn = f64::from(c.x) * inv_w;
         let yn = f64::from(c.y) * inv_w;
@@ -82,7 +84,7 @@ impl Viewport {
         let s = SUBPIXEL_ONE as f64;
         let x = ((xn + 1.0) * (0.5 * f64::from(self.width)) * s).round() as i64;
         let y = ((1.0 - yn) * (0.5 * f64::from(self.height)) * s).round() as i64;
-        SetupVertex { x, y, z: ((zn + 1.0) * 0.5) as f32, inv_w: inv_w as f32, bary }
+        SetupVertex { x, y, z: ((zn + 1.0) * 0.5) as f32 }
     }
 }
 
@@ -120,39 +122,35 @@ pub struct RasterTri {
     pub max_y: i32,
     /// Edge functions at the anchor sample, biased so that "inside" is `≥ 0` for all three.
     pub e: [i64; 3],
-    /// Change of each edge function per column.
-    pub step_x: [i64; 3],
-    /// Change of each edge function per row.
-    pub step_y: [i64; 3],
+    /// `dx` of each edge (fixed point; `|dx| < 2^30`): the edge function changes by `256·dx` per row.
+    pub edge_dx: [i32; 3],
+    /// `dy` of each edge: the edge function changes by `−256·dy` per column.
+    pub edge_dy: [i32; 3],
     /// Window depth plane.
     pub z: Plane,
 }
 
-/// What the shading pass needs of a triangle: the perspective-correct barycentric planes and which
-/// mesh face it came from.
-#[derive(Debug, Clone, Copy, PartialEq)]
+impl RasterTri {
+    /// Change of edge function `k` per column, `−256·dy`.
+    #[inline(always)]
+    pub fn step_x(&self, k: usize) -> i64 {
+        -i64::from(self.edge_dy[k]) * SUBPIXEL_ONE
+    }
+
+    /// Change of edge function `k` per row, `256·dx`.
+    #[inline(always)]
+    pub fn step_y(&self, k: usize) -> i64 {
+        i64::from(self.edge_dx[k]) * SUBPIXEL_ONE
+    }
+}
+
+/// What the shading pass needs of a triangle: which mesh face it came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct InterpTri {
-    /// Planes of `b_i / w` for the three original vertices.
-    pub q: [Plane; 3],
-    /// Anchor column.
-    pub x0: i32,
-    /// Anchor row.
-    pub y0: i32,
     /// Face index within its instance's mesh.
     pub face: u32,
     /// Instance index in the scene.
     pub instance: u32,
-}
-
-impl InterpTri {
-    /// Perspective-correct barycentric coordinates (of the original face) at sample `(c, r)`.
-    #[inline(always)]
-    pub fn bary(&self, c: i32, r: i32) -> Vec3 {
-        let (dc, dr) = ((c - self.x0) as f32, (r - self.y0) as f32);
-        let q = Vec3::new(self.q[0].at(dc, dr), self.q[1].at(dc, dr), self.q[2].at(dc, dr));
-        let sum = q.x + q.y + q.z;
-        if sum > 0.0 { q / sum } else { Vec3::splat(1.0 / 3.0) }
-    }
 }
 
 /// Face culling choice.
@@ -222,30 +220,29 @@ pub fn setup_triangle(
     let (px, py) = (min_x * SUBPIXEL_ONE + HALF, min_y * SUBPIXEL_ONE + HALF);
     let vs = [v0, v1, v2];
     let mut e = [0i64; 3];
-    let mut step_x = [0i64; 3];
-    let mut step_y = [0i64; 3];
+    let mut edge_dx = [0i32; 3];
+    let mut edge_dy = [0i32; 3];
     for k in 0..3 {
         // Edge k is opposite vertex k: from vertex k+1 to vertex k+2.
         let (a, b) = (vs[(k + 1) % 3], vs[(k + 2) % 3]);
         let (dx, dy) = (b.x - a.x, b.y - a.y);
         let top_left = dy < 0 || (dy == 0 && dx > 0);
         e[k] = dx * (py - a.y) - dy * (px - a.x) - i64::from(!top_left);
-        step_x[k] = -dy * SUBPIXEL_ONE;
-        step_y[k] = dx * SUBPIXEL_ONE;
+        edge_dx[k] = dx as i32;
+        edge_dy[k] = dy as i32;
     }
 
-    // Attribute planes in f64, positions in pixels relative to the anchor sample centre.
+    // Depth plane in f64, positions in pixels relative to the anchor sample centre.
     let s = SUBPIXEL_ONE as f64;
     let pxs = vs.map(|v| (v.x - px) as f64 / s);
     let pys = vs.map(|v| (v.y - py) as f64 / s);
     let inv_area = (s * s) / area as f64;
     let z = fit(pxs, pys, vs.map(|v| f64::from(v.z)), inv_area);
-    let q = [0, 1, 2].map(|i| fit(pxs, pys, vs.map(|v| f64::from(v.bary[i]) * f64::from(v.inv_w)), inv_area));
 
     let (x0, y0) = (min_x as i32, min_y as i32);
     Some((
-        RasterTri { min_x: x0, min_y: y0, max_x: max_x as i32, max_y: max_y as i32, e, step_x, step_y, z },
-        InterpTri { q, x0, y0, face, instance },
+        RasterTri { min_x: x0, min_y: y0, max_x: max_x as i32, max_y: max_y as i32, e, edge_dx, edge_dy, z },
+        InterpTri { face, instance },
     ))
 }
 
@@ -253,10 +250,8 @@ pub fn setup_triangle(
 mod tests {
     use super::*;
 
-    fn sv(x: f64, y: f64, k: usize) -> SetupVertex {
-        let mut bary = Vec3::ZERO;
-        bary[k] = 1.0;
-        SetupVertex { x: (x * 256.0) as i64, y: (y * 256.0) as i64, z: 0.5, inv_w: 1.0, bary }
+    fn sv(x: f64, y: f64) -> SetupVertex {
+        SetupVertex { x: (x * 256.0) as i64, y: (y * 256.0) as i64, z: 0.5 }
     }
 
     fn covered(t: &RasterTri) -> Vec<(i32, i32)> {
@@ -264,7 +259,7 @@ mod tests {
         for r in t.min_y..=t.max_y {
             for c in t.min_x..=t.max_x {
                 let (dc, dr) = (i64::from(c - t.min_x), i64::from(r - t.min_y));
-                if (0..3).all(|k| t.e[k] + dc * t.step_x[k] + dr * t.step_y[k] >= 0) {
+                if (0..3).all(|k| t.e[k] + dc * t.step_x(k) + dr * t.step_y(k) >= 0) {
                     out.push((c, r));
                 }
             }
@@ -283,7 +278,7 @@ mod tests {
                 let tris = if diag == 0 { [[a, b, c], [a, c, d]] } else { [[a, b, d], [b, c, d]] };
                 let mut count = [[0u8; 16]; 16];
                 for t in tris {
-                    let vs = [0, 1, 2].map(|k| sv(t[k].0, t[k].1, k));
+                    let vs = [0, 1, 2].map(|k| sv(t[k].0, t[k].1));
                     let (rt, _) = setup_triangle(vs, VP, NO_CULL, 0, 0).unwrap();
                     for (x, y) in covered(&rt) {
                         count[y as usize][x as usize] += 1;
@@ -302,12 +297,11 @@ mod tests {
 
     #[test]
     fn front_faces_have_negative_screen_area_and_back_faces_are_culled() {
-        // CCW in NDC (y up) → listed top-left, bottom-left, bottom-right in y-down screen space... check
-        // with the actual snap: NDC (-0.5,-0.5), (0.5,-0.5), (0,0.5) is CCW seen from +z.
+        // NDC (−0.5, −0.5), (0.5, −0.5), (0, 0.5) is counter-clockwise seen from +z: a front face.
         let vp = Viewport { width: 8, height: 8 };
         let ccw =
             [Vec4::new(-0.5, -0.5, 0.0, 1.0), Vec4::new(0.5, -0.5, 0.0, 1.0), Vec4::new(0.0, 0.5, 0.0, 1.0)];
-        let vs = [0, 1, 2].map(|k| vp.snap(ccw[k], Vec3::ZERO));
+        let vs = ccw.map(|c| vp.snap(c));
         let cull = Culling { back: true, mirrored: false };
         assert!(setup_triangle(vs, vp, cull, 0, 0).is_some());
         assert!(setup_triangle([vs[0], vs[2], vs[1]], vp, cull, 0, 0).is_none());
@@ -318,31 +312,16 @@ mod tests {
     }
 
     #[test]
-    fn planes_reproduce_vertex_values_and_barycentrics_are_perspective_correct() {
-        let mut vs = [sv(1.0, 1.0, 0), sv(13.0, 2.0, 1), sv(4.0, 14.0, 2)];
-        let ws = [1.0f32, 4.0, 2.0];
-        for k in 0..3 {
-            vs[k].inv_w = 1.0 / ws[k];
-            vs[k].z = 0.1 * k as f32;
+    fn the_depth_plane_reproduces_the_vertex_depths() {
+        let mut vs = [sv(1.0, 1.0), sv(13.0, 2.0), sv(4.0, 14.0)];
+        for (k, v) in vs.iter_mut().enumerate() {
+            v.z = 0.1 + 0.3 * k as f32;
         }
         let (rt, it) = setup_triangle(vs, VP, NO_CULL, 7, 3).unwrap();
         assert_eq!((it.face, it.instance), (7, 3));
-        // The depth plane is affine in screen space.
-        let zc = rt.z.at(13.0 - 0.5 - rt.min_x as f32, 2.0 - 0.5 - rt.min_y as f32);
-        assert!((zc - 0.1).abs() < 1e-5, "{zc}");
-        // At a sample, b_i ∝ λ_i / w_i where λ are the screen-space (affine) barycentrics.
-        let (c, r) = (6, 6);
-        let (x, y) = (c as f64 + 0.5, r as f64 + 0.5);
-        let p = [(1.0, 1.0), (13.0, 2.0), (4.0, 14.0)];
-        let area = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[2].0 - p[0].0) * (p[1].1 - p[0].1);
-        let lam1 = ((x - p[0].0) * (p[2].1 - p[0].1) - (p[2].0 - p[0].0) * (y - p[0].1)) / area;
-        let lam2 = ((p[1].0 - p[0].0) * (y - p[0].1) - (x - p[0].0) * (p[1].1 - p[0].1)) / area;
-        let lam = [1.0 - lam1 - lam2, lam1, lam2];
-        let s: f64 = (0..3).map(|k| lam[k] / f64::from(ws[k])).sum();
-        let b = it.bary(c, r);
-        for k in 0..3 {
-            let expect = lam[k] / f64::from(ws[k]) / s;
-            assert!((f64::from(b[k]) - expect).abs() < 1e-5, "{k}: {} vs {expect}", b[k]);
+        for (k, (x, y)) in [(1.0f32, 1.0f32), (13.0, 2.0), (4.0, 14.0)].into_iter().enumerate() {
+            let z = rt.z.at(x - 0.5 - rt.min_x as f32, y - 0.5 - rt.min_y as f32);
+            assert!((z - vs[k].z).abs() < 1e-5, "{k}: {z}");
         }
     }
 }

@@ -35,6 +35,8 @@ pub const NO_TRI: u32 = u32::MAX;
 /// The set-up triangles of one chunk, binned into bands.
 #[derive(Debug, Default)]
 pub struct Chunk {
+    /// The instance whose faces the chunk holds.
+    pub instance: u32,
     /// Coverage data, in submission order.
     pub raster: Vec<RasterTri>,
     /// Interpolation data, parallel to `raster`.
@@ -138,7 +140,8 @@ pub fn raster_band<S: Fragments>(
             let r_first = t.min_y.max(row0);
             let r_last = t.max_y.min(row_end);
             let dr0 = i64::from(r_first - t.min_y);
-            let mut e_row = [0, 1, 2].map(|k| t.e[k] + dr0 * t.step_y[k]);
+            let (sx, sy) = ([0, 1, 2].map(|k| t.step_x(k)), [0, 1, 2].map(|k| t.step_y(k)));
+            let mut e_row = [0, 1, 2].map(|k| t.e[k] + dr0 * sy[k]);
             let n_cols = (t.max_x - t.min_x + 1) as usize;
             for r in r_first..=r_last {
                 let row_base = (r - row0) as usize * width + t.min_x as usize;
@@ -149,13 +152,13 @@ pub fn raster_band<S: Fragments>(
                     if (e[0] | e[1] | e[2]) >= 0 {
                         sink.fragment(row_base + i, z_row + i as f32 * t.z.dx, tri);
                     }
-                    e[0] += t.step_x[0];
-                    e[1] += t.step_x[1];
-                    e[2] += t.step_x[2];
+                    e[0] += sx[0];
+                    e[1] += sx[1];
+                    e[2] += sx[2];
                 }
-                e_row[0] += t.step_y[0];
-                e_row[1] += t.step_y[1];
-                e_row[2] += t.step_y[2];
+                e_row[0] += sy[0];
+                e_row[1] += sy[1];
+                e_row[2] += sy[2];
             }
         }
     }
