@@ -130,6 +130,28 @@ def test_two_instances_orthographic_matches_reference(shading: str) -> None:
     )
 
 
+def bumpy_ball() -> rb.Spec:
+    # an icosphere with radially jittered vertices and computed (angle-weighted) normals: unlike a sphere
+    # (where (n0 + n1).(p1 - p0) = 0 on every edge), here the quadratic term of van Overveld & Wyvill's
+    # interpolation is far from zero, so "quadratic" and "phong" shading differ visibly
+    rng = np.random.default_rng(7)
+    v, f = og.icosphere(2)
+    v = v * rng.uniform(0.8, 1.2, (len(v), 1))
+    mesh = brdfpy.Mesh(v, f)
+    obj = mesh_obj(mesh, model="blinn_phong_classic", params={"kd": 0.6, "ks": 0.4, "shininess": 24})
+    lights = [rb.Light("directional", {"direction": (-0.3, -0.5, -1), "color": 1.0})]
+    return rb.Spec([obj], lights, rb.Cam("perspective", {"eye": (0.2, 0.3, 3.2), "target": (0, 0, 0)}))
+
+
+def test_quadratic_normals_on_a_bumpy_mesh_match_reference() -> None:
+    spec = bumpy_ball()
+    img, ref = check_render(spec, 64, 48, "quadratic")
+    rb.assert_matches(img.normal, ref.normal, img.triangle_id, ref, spec, "normal", buffer="normal")
+    phong = rb.reference(spec, 64, 48, "phong")
+    c = rb.compare(img.normal, phong.normal, img.triangle_id, ref, spec, buffer="normal")
+    assert c.max_excess > 0.05, "quadratic and phong normals should differ on this mesh"
+
+
 ISOTROPIC_MODELS: list[tuple[str, dict[str, Any]]] = [
     ("lambert", {}),
     ("lambert_classic", {}),
