@@ -152,6 +152,24 @@ def test_quadratic_normals_on_a_bumpy_mesh_match_reference() -> None:
     assert c.max_excess > 0.05, "quadratic and phong normals should differ on this mesh"
 
 
+@pytest.mark.parametrize("shading", SHADINGS)
+def test_vertex_colours_tint_everything_but_emission(shading: str) -> None:
+    mesh = brdfpy.icosphere(2)
+    rng = np.random.default_rng(5)
+    colors = rng.uniform(0.1, 1.0, (mesh.n_vertices, 3))
+    obj = mesh_obj(
+        mesh,
+        model="phong_classic",
+        params={"kd": 0.7, "ks": 0.3, "shininess": 10},
+        ambient=0.1,
+        emission=(0.02, 0.0, 0.05),
+        colors=colors,
+    )
+    lights = [rb.Light("point", {"position": (1, 2, 3), "intensity": 12.0})]
+    spec = rb.Spec([obj], lights, rb.Cam("perspective", {"eye": (0, 0.5, 3)}))
+    check_render(spec, 48, 36, shading)
+
+
 ISOTROPIC_MODELS: list[tuple[str, dict[str, Any]]] = [
     ("lambert", {}),
     ("lambert_classic", {}),

@@ -62,6 +62,7 @@ class Obj:
     ambient: Any = 0.0
     emission: Any = 0.0
     transform: Any = None
+    colors: Any = None
 
 
 @dataclass
@@ -131,7 +132,9 @@ class Spec:
 def brdfpy_scene(spec: Spec) -> Any:
     scene = brdfpy.Scene(ambient_light=spec.ambient_light, background=spec.background)
     for o in spec.objects:
-        mesh = brdfpy.Mesh(np.asarray(o.vertices, np.float32), np.asarray(o.faces, np.uint32), o.normals)
+        mesh = brdfpy.Mesh(
+            np.asarray(o.vertices, np.float32), np.asarray(o.faces, np.uint32), o.normals, colors=o.colors
+        )
         kw: dict[str, Any] = {"material": brdfpy.model(o.model, **o.params), "ambient": o.ambient}
         kw["emission"] = o.emission
         if o.transform is not None:
@@ -152,7 +155,8 @@ def oracle_scene(spec: Spec) -> oraster.Scene:
         params = brdfpy.model(o.model, **o.params).params
         mat = oraster.Material(o.model, params, o.ambient, o.emission)
         t = np.eye(4) if o.transform is None else np.asarray(o.transform, np.float64)
-        inst.append(oraster.Instance(v, np.asarray(o.faces, np.int64), mat, n, t))
+        c = None if o.colors is None else np.asarray(o.colors, np.float32).astype(np.float64)
+        inst.append(oraster.Instance(v, np.asarray(o.faces, np.int64), mat, n, t, c))
     return oraster.Scene(inst, [oracle_light(x) for x in spec.lights], spec.ambient_light, spec.background)
 
 

@@ -73,6 +73,8 @@ class Instance:
     material: Material
     normals: ArrayLike | None = None
     transform: ArrayLike = field(default_factory=lambda: np.eye(4))
+    #: optional per-vertex linear RGB colours (V, 3) tinting everything but the emission
+    colors: ArrayLike | None = None
 
 
 @dataclass
@@ -115,18 +117,27 @@ class Frame:
 
 
 def illuminate(
-    material: Material, p: F64, n: F64, camera: Camera, lights: list[Any], ambient_light: ArrayLike
+    material: Material,
+    p: F64,
+    n: F64,
+    camera: Camera,
+    lights: list[Any],
+    ambient_light: ArrayLike,
+    tint: F64 | None = None,
 ) -> F64:
     """Seed 004 eq. 12.28 / SPEC row 14 at points ``p`` with unit normals ``n`` (N, 3):
-    ``emission + ka Ia + sum_j E_j shade(model, l_j, v, n)``, ``v`` from the camera."""
+    ``emission + tint (ka Ia + sum_j E_j shade(model, l_j, v, n))``, ``v`` from the camera; ``tint``
+    (N, 3) is the interpolated vertex colour (seed 004 12.28's "(r', g', b') = (r I_r, g I_g, b I_b)": the
+    object's colour modifies the computed intensity), 1 without vertex colours."""
     v = camera.view_vector(p)
-    out = np.broadcast_to(_rgb(material.emission) + _rgb(material.ambient) * _rgb(ambient_light), p.shape)
-    out = out.copy()
+    out = np.broadcast_to(_rgb(material.ambient) * _rgb(ambient_light), p.shape).copy()
     for light in lights:
         l, e, _ = light.incident(p)
         s = om.evaluate(material.model, material.params, l, v, n, quantity="shade")
         out += e * s
-    return out
+    if tint is not None:
+        out *= tint
+    return out + _rgb(material.emission)
 
 
 def quadratic_midnormals(p: F64, n: F64) -> F64:
@@ -373,14 +384,17 @@ def render(
         f = faces[tri[mask]]
         beta = beta_buf[mask]
         p = np.einsum("ni,nij->nj", beta, pw[f])
+        cols = None if inst.colors is None else np.asarray(inst.colors, dtype=np.float64)
+        tint = None if cols is None else np.einsum("ni,nij->nj", beta, cols[f])
         if shading == "flat":
             fn = _unit(np.cross(pw[faces[:, 1]] - pw[faces[:, 0]], pw[faces[:, 2]] - pw[faces[:, 0]]))
             centroid = pw[faces].mean(axis=1)
-            col = illuminate(inst.material, centroid, fn, camera, scene.lights, scene.ambient_light)
+            ftint = None if cols is None else cols[faces].mean(axis=1)
+            col = illuminate(inst.material, centroid, fn, camera, scene.lights, scene.ambient_light, ftint)
             hdr[mask] = col[tri[mask]]
             normal[mask] = fn[tri[mask]]
         elif shading == "gouraud":
-            vcol = illuminate(inst.material, pw, nw, camera, scene.lights, scene.ambient_light)
+            vcol = illuminate(inst.material, pw, nw, camera, scene.lights, scene.ambient_light, cols)
             hdr[mask] = np.einsum("ni,nij->nj", beta, vcol[f])
             normal[mask] = _unit(np.einsum("ni,nij->nj", beta, nw[f]))
         else:
@@ -388,7 +402,7 @@ def render(
                 n = _unit(np.einsum("ni,nij->nj", beta, nw[f]))
             else:
                 n = quadratic_normal(beta, pw[f], nw[f])
-            hdr[mask] = illuminate(inst.material, p, n, camera, scene.lights, scene.ambient_light)
+            hdr[mask] = illuminate(inst.material, p, n, camera, scene.lights, scene.ambient_light, tint)
             normal[mask] = n
         position[mask] = p
     return Frame(hdr, depth, normal, position, tri, ins, edge, gap)
