@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_scalars
+from brdfpy._arrays import as_scalars, as_vec3_args
 
 __all__ = [
     "METALS",
@@ -28,6 +28,7 @@ __all__ = [
     "ior_from_f0",
     "metal_f0",
     "schlick",
+    "split",
 ]
 
 F32 = NDArray[np.float32]
@@ -141,3 +142,33 @@ def metal_f0(name: str) -> F32:
     if not isinstance(name, str):
         raise TypeError(f"name: expected a metal name (str), got {type(name).__name__}")
     return np.asarray(_brdfpy.metal_f0(name), dtype=np.float32)
+
+
+def split(w: ArrayLike, n: ArrayLike, eta: float) -> tuple[F32, F32, F32, F32]:
+    """What happens to light meeting a smooth dielectric interface (seed 001 "Refraction"; seed 003).
+
+    Parameters
+    ----------
+    w : array_like, shape (N, 3) or (3,)
+        Direction toward where the light comes from (away from the surface; normalised here).
+    n : array_like, shape (N, 3) or (3,)
+        Normal on the outside (normalised here). ``w`` on the inside flips it and inverts ``eta``.
+    eta : float
+        ``η_inside / η_outside`` (> 0), e.g. 1.5 for glass in air.
+
+    Returns
+    -------
+    r : float32 (N, 3)
+        Mirror direction ``2(n·w)n − w``.
+    t : float32 (N, 3)
+        Refracted direction by Snell's law, pointing away on the other side; 0 on total internal reflection.
+    R, T : float32 (N,)
+        Reflected power fraction (exact unpolarised Fresnel) and transmitted ``T = 1 − R`` (0 on TIR). The
+        transmitted *radiance* is further scaled by ``(η_t/η_i)²``.
+    """
+    (wa, na), _ = as_vec3_args(w=w, n=n)
+    assert wa is not None and na is not None
+    e = _channels("eta", eta)
+    if len(e) != 1:
+        raise ValueError("eta: expected one number")
+    return _brdfpy.split(wa, na, e[0])

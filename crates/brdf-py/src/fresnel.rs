@@ -151,3 +151,58 @@ pub fn metal_f0(name: &str) -> PyResult<[f32; 3]> {
 pub fn metal_names() -> Vec<&'static str> {
     fr::METAL_F0.iter().map(|(s, _)| *s).collect()
 }
+
+/// `(r, t, R, T)` of [`split`].
+type Split<'py> = (
+    Bound<'py, numpy::PyArray2<f32>>,
+    Bound<'py, numpy::PyArray2<f32>>,
+    Bound<'py, numpy::PyArray1<f32>>,
+    Bound<'py, numpy::PyArray1<f32>>,
+);
+
+/// Light meeting a smooth dielectric interface: reflected and refracted directions and the reflected and
+/// transmitted power fractions `R` (exact Fresnel) and `T = 1 − R` (seed 001; seed 003). `w` points toward
+/// where the light comes from, `n` is the outside normal (both normalised here), `eta = η_inside/η_outside`;
+/// `w` on the inside flips the normal and inverts η. Total internal reflection: `R = 1`, `T = 0`, `t = 0`.
+#[pyfunction]
+pub fn split<'py>(
+    py: Python<'py>,
+    w: numpy::PyReadonlyArray2<'py, f32>,
+    n: numpy::PyReadonlyArray2<'py, f32>,
+    eta: f32,
+) -> PyResult<Split<'py>> {
+    use crate::arrays::{at, broadcast_len, check_vec3, vec3_view};
+    use numpy::PyArrayMethods;
+    if !eta_ok(eta) {
+        return Err(invalid(format!("eta: must be finite and > 0, got {eta}")));
+    }
+    let (ws, ns) = (vec3_view("w", &w)?, vec3_view("n", &n)?);
+    let len = broadcast_len(&[("w", ws.len()), ("n", ns.len())])?;
+    check_vec3("w", ws, 0).map_err(crate::threads::RowError::into_py)?;
+    check_vec3("n", ns, 0).map_err(crate::threads::RowError::into_py)?;
+    // Four outputs per sample: one pass on the calling thread (GIL released), the vectors handed to
+    // NumPy without copying.
+    let mut r = vec![0.0f32; 3 * len];
+    let mut t = vec![0.0f32; 3 * len];
+    let mut rr = vec![0.0f32; len];
+    let mut tt = vec![0.0f32; len];
+    py.detach(|| {
+        for i in 0..len {
+            let wi = brdf_core::vector::normalize_or_zero(at(ws, i).into());
+            let ni = brdf_core::vector::normalize_or_zero(at(ns, i).into());
+            if wi == glam::Vec3A::ZERO || ni == glam::Vec3A::ZERO {
+                continue;
+            }
+            let s = fr::split(wi, ni, eta);
+            r[3 * i..3 * i + 3].copy_from_slice(&s.reflected.to_array());
+            if let Some(d) = s.refracted {
+                t[3 * i..3 * i + 3].copy_from_slice(&d.to_array());
+            }
+            rr[i] = s.reflectance;
+            tt[i] = s.transmittance;
+        }
+    });
+    let r = numpy::PyArray1::from_vec(py, r).reshape([len, 3])?;
+    let t = numpy::PyArray1::from_vec(py, t).reshape([len, 3])?;
+    Ok((r, t, numpy::PyArray1::from_vec(py, rr), numpy::PyArray1::from_vec(py, tt)))
+}

@@ -26,7 +26,7 @@ mod _brdfpy {
     #[pymodule_export]
     use super::fresnel::{
         color_shift, conductor, dielectric, dielectric_sp, f0_from_ior, ior_from_f0, metal_f0, metal_names,
-        schlick,
+        schlick, split,
     };
     #[pymodule_export]
     use super::microfacet::{distribution, masking, microfacet_names, smith_lambda};
