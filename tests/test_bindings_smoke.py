@@ -192,3 +192,20 @@ def test_vectors_reflect_refract_halfway():
     assert not ok[0] and (t == 0).all()
     with pytest.raises(ValueError, match="eta"):
         brdfpy.vectors.refract([0, 0, 1], [0, 0, 1], -1.0)
+
+
+def test_float32_c_contiguous_input_reaches_the_core_without_a_copy():
+    from brdfpy._arrays import as_vec3
+
+    a = np.zeros((1000, 3), dtype=np.float32)
+    assert as_vec3("l", a)[0] is a
+    one = np.zeros(3, dtype=np.float32)
+    assert np.shares_memory(as_vec3("l", one)[0], one)
+    assert not np.shares_memory(as_vec3("l", a.astype(np.float64))[0], a)  # float64 is converted once
+
+
+def test_fresnel_split_conserves_energy_and_reports_total_internal_reflection():
+    r, t, big_r, big_t = brdfpy.fresnel.split([[0.6, 0, 0.8], [0.8, 0, -0.6]], [0, 0, 1], 1.5)
+    np.testing.assert_allclose(big_r + big_t, 1.0, rtol=1e-6)
+    np.testing.assert_allclose(r[0], [-0.6, 0, 0.8], atol=1e-7)
+    assert big_r[1] == 1.0 and (t[1] == 0).all()  # from inside at sin 0.8 > 1/1.5
