@@ -209,3 +209,18 @@ def test_meshes_are_usable_from_scenes_with_a_transform() -> None:
     v = np.asarray(m.vertices, float)
     np.testing.assert_allclose(t.vertices, v * [2, 1, 0.5] + [1, 2, 3], atol=1e-5)
     np.testing.assert_allclose(t.normals, unit(np.asarray(m.normals, float) / [2, 1, 0.5]), atol=1e-5)
+
+
+def test_a_scene_keeps_the_mesh_as_it_was_when_added() -> None:
+    # documented in brdfpy.Mesh: "A scene holds the mesh as it was when added: later compute_normals or
+    # flip_winding calls do not change scenes it was already added to"
+    mesh = brdfpy.icosphere(2)
+    scene = brdfpy.Scene()
+    scene.add(mesh, "lambert")
+    scene.add_light(brdfpy.DirectionalLight((0, 0, -1)))
+    cam = brdfpy.Camera.perspective((0, 0, 3))
+    before = np.array(scene.render(cam, 32, 24).hdr)
+    mesh.flip_winding().compute_normals("equal")
+    after = np.array(scene.render(cam, 32, 24).hdr)
+    np.testing.assert_array_equal(before, after)
+    assert (before > 0).any()

@@ -119,6 +119,8 @@ def test_transformed_torus_three_lights_matches_reference(shading: str) -> None:
 def test_two_instances_orthographic_matches_reference(shading: str) -> None:
     spec = two_objects()
     img, ref = check_render(spec, 64, 48, shading)
+    # orthographic window depth is linear in the view distance
+    rb.assert_matches(img.depth, ref.depth, img.triangle_id, ref, spec, "depth", rtol=1e-5, buffer="depth")
     # face ids count over the instances in scene order: the floor's ids follow the ball's
     n_ball = len(np.asarray(spec.objects[0].faces))
     assert (np.asarray(img.triangle_id) >= n_ball).any() and (
