@@ -256,7 +256,7 @@ pub fn coverage_counts(
 }
 
 /// What triangle setup needs of a vertex (16 bytes, so the setup loop streams through little memory).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Zeroable)]
 struct ScreenVertex {
     /// Snapped screen position and window depth, valid when `code & MUST_CLIP == 0`.
     x: i32,
@@ -273,7 +273,7 @@ impl ScreenVertex {
 }
 
 /// What shading needs of a vertex: world position and unit world normal.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Zeroable)]
 struct WorldVertex {
     p: Vec3,
     n: Vec3,
@@ -325,9 +325,10 @@ impl<'a> Prepared<'a> {
 
         // Vertex stage, written in parallel straight into three arrays.
         let n_vertices: usize = scene.instances.iter().map(|i| i.mesh.positions.len()).sum();
-        let mut screen = vec![ScreenVertex::default(); n_vertices];
-        let mut clip = vec![Vec4::ZERO; n_vertices];
-        let mut world = vec![WorldVertex::default(); n_vertices];
+        // Zeroed allocations: the pages are touched first by the parallel writers below.
+        let mut screen: Vec<ScreenVertex> = bytemuck::zeroed_vec(n_vertices);
+        let mut clip: Vec<Vec4> = bytemuck::zeroed_vec(n_vertices);
+        let mut world: Vec<WorldVertex> = bytemuck::zeroed_vec(n_vertices);
         let mut instances = Vec::with_capacity(scene.instances.len());
         let (mut vertex_base, mut face_base) = (0usize, 0u32);
         for inst in &scene.instances {
@@ -379,7 +380,7 @@ impl<'a> Prepared<'a> {
             world,
             instances,
             vertex_color: Vec::new(),
-            rays: Rays::new(&view_proj, viewport),
+            rays: Rays::new(&view_proj, viewport, (!camera.is_orthographic()).then_some(camera.eye)),
             eye: camera.eye.into(),
             backward: camera.backward().into(),
             ortho_view: camera.is_orthographic().then(|| camera.backward().into()),
@@ -490,7 +491,7 @@ impl<'a> Prepared<'a> {
                 });
             }
         }
-        let mut out = vec![Vec3::ZERO; self.world.len()];
+        let mut out: Vec<Vec3> = bytemuck::zeroed_vec(self.world.len());
         for (k, inst) in self.scene.instances.iter().enumerate() {
             let base = self.instances[k].vertex_base;
             let out = &mut out[base..base + inst.mesh.positions.len()];
@@ -662,13 +663,14 @@ impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
                             data,
                             k,
                             f,
+                            (t.min_x, t.min_y),
                             mesh.indices[f as usize],
                             world,
                             colors,
                             self.occlusion,
                         )
                     });
-                    let b = prep.rays.barycentrics(c, r, &td.ray);
+                    let b = td.bary.at(c, r);
                     let (color, n) = match prep.shading {
                         ShadingMode::Flat => (td.flat_color, td.face_normal),
                         ShadingMode::Gouraud => {
@@ -717,7 +719,7 @@ struct TriangleData {
     idx: [u32; 3],
     p: [Vec3; 3],
     n: [Vec3; 3],
-    ray: RayTriangle,
+    bary: BaryPlanes,
     face_normal: Vec3,
     /// Flat shading: the illumination model at the centroid with the face normal.
     flat_color: Vec3,
@@ -731,6 +733,7 @@ impl TriangleData {
         data: &InstanceData,
         instance: u32,
         face: u32,
+        anchor: (i32, i32),
         idx: [u32; 3],
         world: &[WorldVertex],
         colors: Option<&[Vec3]>,
@@ -754,28 +757,65 @@ impl TriangleData {
             };
             flat_color = prep.illuminate(m, &data.terms, &at, tint, occlusion);
         }
-        Self { face, idx, p, n: [v[0].n, v[1].n, v[2].n], ray: RayTriangle::new(p), face_normal, flat_color }
+        let bary = BaryPlanes::new(&prep.rays, p, anchor.0, anchor.1);
+        Self { face, idx, p, n: [v[0].n, v[1].n, v[2].n], bary, face_normal, flat_color }
     }
 }
 
-/// A triangle prepared for ray intersection in f64 (Möller–Trumbore).
-struct RayTriangle {
-    p0: DVec3,
-    e1: DVec3,
-    e2: DVec3,
+/// Perspective-correct barycentrics of one triangle as three affine functions of the sample
+/// position, `D`, `U`, `V` (value at the anchor sample and change per column and per row, f64):
+/// `u = U/D`, `v = V/D`, `b = (1 − u − v, u, v)`.
+///
+/// They are the Möller–Trumbore quantities of the sample's view ray against the world-space triangle,
+/// `D = e1·(d × e2)`, `U = (o − p0)·(d × e2)`, `V = d·((o − p0) × e1)`: with a perspective camera the
+/// origin `o` is the eye (fixed) and the direction `d` is affine in the sample position; with an
+/// orthographic one `d` is fixed and `o` affine. Either way D, U and V are affine, so three exact
+/// evaluations at the anchor and its two neighbours give their planes, and each sample costs six
+/// multiply-adds and a division instead of a full intersection.
+struct BaryPlanes {
+    c0: i32,
+    r0: i32,
+    /// (value at anchor, per column, per row) of D, U, V.
+    d: [f64; 3],
+    u: [f64; 3],
+    v: [f64; 3],
 }
 
-impl RayTriangle {
-    fn new(p: [Vec3; 3]) -> Self {
+impl BaryPlanes {
+    fn new(rays: &Rays, p: [Vec3; 3], c0: i32, r0: i32) -> Self {
         let p0 = p[0].as_dvec3();
-        Self { p0, e1: p[1].as_dvec3() - p0, e2: p[2].as_dvec3() - p0 }
+        let (e1, e2) = (p[1].as_dvec3() - p0, p[2].as_dvec3() - p0);
+        let eval = |c: i32, r: i32| {
+            let (o, d) = rays.ray(c, r);
+            let pv = d.cross(e2);
+            let t = o - p0;
+            DVec3::new(e1.dot(pv), t.dot(pv), d.dot(t.cross(e1)))
+        };
+        let (a, ac, ar) = (eval(c0, r0), eval(c0 + 1, r0), eval(c0, r0 + 1));
+        let (dc, dr) = (ac - a, ar - a);
+        Self { c0, r0, d: [a.x, dc.x, dr.x], u: [a.y, dc.y, dr.y], v: [a.z, dc.z, dr.z] }
+    }
+
+    /// Barycentrics at sample `(c, r)`; the centroid if the ray is parallel to the triangle's plane.
+    /// Slightly outside [0, 1] for samples the snapped triangle covers beyond the exact one, as GL
+    /// extrapolates too.
+    #[inline(always)]
+    fn at(&self, c: i32, r: i32) -> Vec3 {
+        let (dc, dr) = (f64::from(c - self.c0), f64::from(r - self.r0));
+        let d = self.d[0] + dc * self.d[1] + dr * self.d[2];
+        if d == 0.0 || !d.is_finite() {
+            return Vec3::splat(1.0 / 3.0);
+        }
+        let inv = 1.0 / d;
+        let u = (self.u[0] + dc * self.u[1] + dr * self.u[2]) * inv;
+        let v = (self.v[0] + dc * self.v[1] + dr * self.v[2]) * inv;
+        Vec3::new((1.0 - u - v) as f32, u as f32, v as f32)
     }
 }
 
-/// The view ray of every sample, for perspective-correct barycentrics: the ray through sample
-/// `(c, r)` is `o + t·d` with `o` on the near plane and `d` toward the far plane, both affine in the
-/// sample's NDC `(x_n, y_n)` (the inverse of a perspective or orthographic projection has a `w` row
-/// independent of x and y), so they are built from three unprojected points in f64.
+/// The view ray of every sample: origin and direction affine in the sample's NDC `(x_n, y_n)` (the
+/// inverse of a perspective or orthographic projection has a `w` row independent of x and y), built
+/// from unprojected points in f64. A perspective camera's rays all start at the eye.
 #[derive(Debug, Clone, Copy)]
 struct Rays {
     o: DVec3,
@@ -789,17 +829,21 @@ struct Rays {
 }
 
 impl Rays {
-    fn new(view_proj: &Mat4, viewport: Viewport) -> Self {
+    fn new(view_proj: &Mat4, viewport: Viewport, eye: Option<Vec3>) -> Self {
         let inv = view_proj.as_dmat4().inverse();
         let un = |x: f64, y: f64, z: f64| inv.project_point3(DVec3::new(x, y, z));
         let (o, f) = (un(0.0, 0.0, -1.0), un(0.0, 0.0, 1.0));
         let (ox, fx) = (un(1.0, 0.0, -1.0), un(1.0, 0.0, 1.0));
         let (oy, fy) = (un(0.0, 1.0, -1.0), un(0.0, 1.0, 1.0));
         let d = f - o;
+        let (o, o_x, o_y) = match eye {
+            Some(e) => (e.as_dvec3(), DVec3::ZERO, DVec3::ZERO),
+            None => (o, ox - o, oy - o),
+        };
         Self {
             o,
-            o_x: ox - o,
-            o_y: oy - o,
+            o_x,
+            o_y,
             d,
             d_x: (fx - ox) - d,
             d_y: (fy - oy) - d,
@@ -808,25 +852,11 @@ impl Rays {
         }
     }
 
-    /// Barycentrics of the point where the ray of sample `(c, r)` meets the plane of triangle `p`
-    /// (Möller–Trumbore in f64); the centroid if the ray is parallel to the plane. Slightly outside
-    /// [0, 1] for samples the snapped triangle covers beyond the exact one, as GL extrapolates too.
-    #[inline(always)]
-    fn barycentrics(&self, c: i32, r: i32, tri: &RayTriangle) -> Vec3 {
+    /// Origin and direction of the ray through the centre of sample `(c, r)`.
+    #[inline]
+    fn ray(&self, c: i32, r: i32) -> (DVec3, DVec3) {
         let xn = (f64::from(c) + 0.5) * self.sx - 1.0;
         let yn = 1.0 - (f64::from(r) + 0.5) * self.sy;
-        let o = self.o + xn * self.o_x + yn * self.o_y;
-        let d = self.d + xn * self.d_x + yn * self.d_y;
-        let (p0, e1, e2) = (tri.p0, tri.e1, tri.e2);
-        let pv = d.cross(e2);
-        let det = e1.dot(pv);
-        if det == 0.0 || !det.is_finite() {
-            return Vec3::splat(1.0 / 3.0);
-        }
-        let inv = 1.0 / det;
-        let t = o - p0;
-        let u = t.dot(pv) * inv;
-        let v = d.dot(t.cross(e1)) * inv;
-        Vec3::new((1.0 - u - v) as f32, u as f32, v as f32)
+        (self.o + xn * self.o_x + yn * self.o_y, self.d + xn * self.d_x + yn * self.d_y)
     }
 }
