@@ -1,7 +1,7 @@
 //! Render SCENE.md's canonical scene, print the median frame time at 1 and 2 threads, write a PPM.
 //!
-//! `cargo run --release -p brdf-raster --example canonical -- [level] [width] [height] [frames] [out.ppm] [threads,...]`
-//! (defaults: 7 1920 1080 10 canonical.ppm 1,2). View the PPM with any image viewer, or convert it with
+//! `cargo run --release -p brdf-raster --example canonical -- [level] [width] [height] [frames] [out.ppm] [threads,...] [shading]`
+//! (defaults: 7 1920 1080 10 canonical.ppm 1,2 phong; shading: flat, gouraud, phong, quadratic). View the PPM with any image viewer, or convert it with
 //! `python -c "from PIL import Image; Image.open('canonical.ppm').save('canonical.png')"`.
 
 use std::time::Instant;
@@ -28,10 +28,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let frames: usize = arg(3, "10").parse()?;
     let out = arg(4, "canonical.ppm");
     let thread_counts: Vec<usize> = arg(5, "1,2").split(',').map(str::parse).collect::<Result<_, _>>()?;
+    let shading = brdf_raster::ShadingMode::from_name(&arg(6, "phong"))?;
 
     let scene = canonical_scene(level)?;
     let camera = canonical_camera();
-    let options = RenderOptions::new(width, height);
+    let options = RenderOptions { shading, ..RenderOptions::new(width, height) };
     println!("icosphere({level}): {} triangles, {width}×{height}", scene.face_count());
 
     let mut last = None;

@@ -14,6 +14,26 @@
 //! Every stage is a pure function of its input chunk or band, and bands see triangles in submission
 //! order, so the frame is bit-identical for any number of threads.
 //!
+//! ## Example
+//! ```
+//! use std::sync::Arc;
+//! use brdf_core::{Model, lights::{Attenuation, Light}};
+//! use brdf_raster::{Camera, Material, RenderOptions, Scene, ShadingMode, procedural, render};
+//! use glam::{Mat4, Vec3};
+//!
+//! let mut scene = Scene::new();
+//! let sphere = Arc::new(procedural::icosphere(3).unwrap());
+//! let material = Material::new(Model::build("lambert", &[]).unwrap()).with_ambient(Vec3::splat(0.05));
+//! scene.add(sphere, material, Mat4::IDENTITY);
+//! scene.add_light(Light::point(Vec3::new(2.0, 2.0, 2.0), Vec3::splat(10.0), Attenuation::InverseSquare).unwrap());
+//! let camera = Camera::perspective(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 0.8, 0.1, 100.0).unwrap();
+//! let options = RenderOptions { shading: ShadingMode::Phong, ..RenderOptions::new(64, 48) };
+//! let frame = render(&scene, &camera, &options).unwrap();
+//! let rgb: Vec<u8> = frame.to_rgb8(); // 48 rows × 64 columns × 3, row 0 at the top
+//! assert_eq!(rgb.len(), 64 * 48 * 3);
+//! assert_ne!(frame.triangle_id[24 * 64 + 32], u32::MAX); // the centre pixel sees the sphere
+//! ```
+//!
 //! ## Hooks for ambient occlusion and shadows
 //! [`render_with`] takes an [`Occlusion`] provider: its obscurance `w(p)` multiplies the ambient term
 //! and its visibility `δ_j` multiplies light `j`'s contribution (seed 004 eq. 12.75), evaluated at each
