@@ -3,11 +3,19 @@
 //! Every input is either one vector (broadcast) or `n` vectors. Work is split into fixed chunks that
 //! rayon runs on the pool's threads; every output element depends only on its own inputs, so the
 //! result is bit-identical for any number of threads.
+//!
+//! Inside a chunk, samples go eight at a time through the model's lane form ([`Bxdf::f_lanes`],
+//! [`crate::simd`]): the AoS rows are transposed into eight-lane registers, normalised, evaluated and
+//! transposed back. The last, partial group is padded by repeating its last row, so every sample takes
+//! the same path. On x86-64 CPUs with AVX2 the loop is compiled a second time for AVX2 and chosen at
+//! run time; both versions perform the same IEEE operations (no fused multiply-add), so the bits do
+//! not depend on the CPU either, and they equal [`Model::eval`]/[`Model::shade`] on each sample.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::models::{Bxdf, Model, ModelVisitor, eval_model, shade_model};
+use crate::models::{Bxdf, Model, ModelVisitor, eval_model_lanes, shade_model_lanes};
+use crate::simd::{F32x8, Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry};
 
 /// Below this many elements a batch runs on the calling thread (spawning costs more than it saves).
@@ -47,6 +55,33 @@ impl<'a, T: Copy> Broadcast<'a, T> {
     #[inline(always)]
     pub fn get(&self, i: usize) -> T {
         if self.data.len() == 1 { self.data[0] } else { self.data[i] }
+    }
+}
+
+impl Broadcast<'_, Vec3> {
+    /// Rows `start .. start + 8` as lanes; past `end` the row `end − 1` is repeated (padding).
+    #[inline(always)]
+    fn lanes(&self, start: usize, end: usize) -> V3<F32x8> {
+        if self.data.len() == 1 {
+            return V3::splat(self.data[0]);
+        }
+        let rows: &[Vec3] = &self.data[start..end];
+        if let Ok(rows) = <&[Vec3; 8]>::try_from(rows) {
+            // A full group: plain loads the compiler turns into shuffles.
+            V3 {
+                x: F32x8::new(rows.map(|r| r.x)),
+                y: F32x8::new(rows.map(|r| r.y)),
+                z: F32x8::new(rows.map(|r| r.z)),
+            }
+        } else {
+            let last = rows.len() - 1;
+            let at = |j: usize| rows[j.min(last)];
+            V3 {
+                x: F32x8::from_fn(|j| at(j).x),
+                y: F32x8::from_fn(|j| at(j).y),
+                z: F32x8::from_fn(|j| at(j).z),
+            }
+        }
     }
 }
 
@@ -103,9 +138,21 @@ impl<'a> Directions<'a> {
         Ok((dirs, len))
     }
 
+    /// The scalar geometry of element `i` (what [`evaluate`] computes, one sample at a time).
     #[inline(always)]
-    fn geometry(&self, i: usize) -> Option<Geometry> {
+    pub fn geometry(&self, i: usize) -> Option<Geometry> {
         Geometry::new(self.l.get(i), self.v.get(i), self.n.get(i), self.t.map(|t| t.get(i)))
+    }
+
+    /// The geometry of elements `start .. end` (at most 8, padded) and the lanes where it exists.
+    #[inline(always)]
+    fn lanes(&self, start: usize, end: usize) -> (LaneGeometry<F32x8>, <F32x8 as Lane>::Mask) {
+        LaneGeometry::new(
+            self.l.lanes(start, end),
+            self.v.lanes(start, end),
+            self.n.lanes(start, end),
+            self.t.map(|t| t.lanes(start, end)),
+        )
     }
 }
 
@@ -119,17 +166,61 @@ pub fn for_each_chunk<T: Send>(out: &mut [T], body: impl Fn(usize, &mut [T]) + S
 }
 
 fn run<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, out: &mut [Vec3]) {
-    for_each_chunk(out, |offset, chunk| {
-        for (k, o) in chunk.iter_mut().enumerate() {
-            *o = match dirs.geometry(offset + k) {
-                None => Vec3::ZERO,
-                Some(g) => match q {
-                    Quantity::Brdf => eval_model(m, &g),
-                    Quantity::Shade => shade_model(m, &g),
-                },
-            };
+    for_each_chunk(out, |offset, chunk| run_chunk(m, dirs, q, offset, chunk));
+}
+
+/// One chunk: the AVX2 build of [`run_lanes`] when the CPU has AVX2, else the baseline build.
+#[inline]
+fn run_chunk<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, offset: usize, out: &mut [Vec3]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: `run_lanes_avx2` is an ordinary safe computation compiled with AVX2 enabled; its only
+        // requirement is that the CPU executing it supports AVX2 (and AVX, which AVX2 implies), which
+        // `is_x86_feature_detected!` has just confirmed at run time.
+        #[allow(unsafe_code)]
+        unsafe {
+            run_lanes_avx2(m, dirs, q, offset, out)
+        };
+        return;
+    }
+    run_lanes(m, dirs, q, offset, out);
+}
+
+/// [`run_lanes`] compiled for AVX2: eight-lane `f32` arithmetic in single 256-bit instructions.
+/// Only the instruction selection differs from the baseline build; FMA is not enabled, so every result
+/// is rounded exactly as there.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)] // `#[target_feature]` functions are `unsafe fn` before Rust 1.86 (our MSRV is 1.85).
+unsafe fn run_lanes_avx2<M: Bxdf>(
+    m: &M,
+    dirs: &Directions<'_>,
+    q: Quantity,
+    offset: usize,
+    out: &mut [Vec3],
+) {
+    run_lanes(m, dirs, q, offset, out);
+}
+
+/// Evaluate `out[k]` for element `offset + k`, eight samples at a time.
+#[inline(always)]
+fn run_lanes<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, offset: usize, out: &mut [Vec3]) {
+    for (k, group) in out.chunks_mut(F32x8::LANES).enumerate() {
+        let start = offset + k * F32x8::LANES;
+        let (g, valid) = dirs.lanes(start, start + group.len());
+        let value = match q {
+            Quantity::Brdf => eval_model_lanes(m, &g, valid),
+            Quantity::Shade => shade_model_lanes(m, &g, valid),
+        };
+        if let Ok(group) = <&mut [Vec3; 8]>::try_from(&mut *group) {
+            // A full group: one transposition back to rows, stored whole.
+            *group = std::array::from_fn(|j| value.lane(j));
+        } else {
+            for (j, o) in group.iter_mut().enumerate() {
+                *o = value.lane(j);
+            }
         }
-    });
+    }
 }
 
 struct Run<'a, 'b> {
@@ -191,6 +282,63 @@ mod tests {
         assert_eq!(out[2], Vec3::ZERO); // below the horizon
         let e = evaluate_vec(&m, &l, &[Vec3::Z; 2], &[Vec3::Z], None, Quantity::Brdf).unwrap_err();
         assert!(e.to_string().contains("\"v\""), "{e}");
+    }
+
+    /// Every model, eval and shade, on random directions with degenerate rows mixed in, broadcast and
+    /// not, with and without tangents, over a length that leaves a partial group of lanes: the batch
+    /// (eight-lane, possibly AVX2) gives exactly the bits of the scalar `Model::eval`/`shade`.
+    #[test]
+    fn batch_equals_scalar_evaluation_bit_for_bit_for_every_model() {
+        let n = 1000 + 5;
+        let mut seed = 0x2545_f491_u32;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        let mut dirs = |k: usize| -> Vec<Vec3> {
+            (0..k)
+                .map(|i| match i % 97 {
+                    13 => Vec3::ZERO,
+                    41 => Vec3::new(0.0, 0.0, -1.0),
+                    _ => Vec3::new(rnd(), rnd(), rnd().abs() * 1.5 + 0.05),
+                })
+                .collect()
+        };
+        let (l, v, t) = (dirs(n), dirs(n), dirs(n));
+        let n_one = [Vec3::new(0.1, -0.2, 1.0)];
+        let mut models: Vec<Model> =
+            crate::MODEL_SPECS.iter().map(|s| Model::build(s.name, &[]).unwrap()).collect();
+        for (d, g, f) in [
+            ("beckmann", "smith", "dielectric"),
+            ("ggx", "smith_separable", "conductor"),
+            ("ggx", "v_groove", "schlick"),
+            ("blinn_phong", "kelemen", "color_shift"),
+        ] {
+            let p = |k: &str, x: &str| (k.to_string(), crate::Input::Text(x.into()));
+            models.push(
+                Model::build("cook_torrance", &[p("distribution", d), p("masking", g), p("fresnel", f)])
+                    .unwrap(),
+            );
+        }
+        for m in &models {
+            for q in [Quantity::Brdf, Quantity::Shade] {
+                for tangent in [None, Some(&t[..])] {
+                    let out = evaluate_vec(m, &l, &v, &n_one, tangent, q).unwrap();
+                    let (d, _) = Directions::new(&l, &v, &n_one, tangent).unwrap();
+                    for (i, o) in out.iter().enumerate() {
+                        let want = match d.geometry(i) {
+                            None => Vec3::ZERO,
+                            Some(g) if q == Quantity::Brdf => m.eval(&g),
+                            Some(g) => m.shade(&g),
+                        };
+                        let bits = |x: Vec3| x.to_array().map(f32::to_bits);
+                        assert_eq!(bits(*o), bits(want), "{} {q:?} row {i}: {o} vs {want}", m.spec().name);
+                    }
+                }
+            }
+        }
     }
 
     #[test]

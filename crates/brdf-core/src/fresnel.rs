@@ -25,6 +25,7 @@
 
 use glam::{Vec3, Vec3A};
 
+use crate::simd::{Lane, V3};
 use crate::vector::{reflect, refract};
 
 /// Exact dielectric Fresnel reflectance for s- and p-polarised light, `(R_s, R_p)`.
@@ -143,10 +144,16 @@ pub fn conductor_scalar(cos_i: f32, eta: f32, k: f32) -> f32 {
 /// The fifth power is four multiplications, no `powf`.
 #[inline]
 pub fn schlick(cos_i: f32, f0: Vec3) -> Vec3 {
-    let m = 1.0 - cos_i.abs().min(1.0);
+    schlick_lanes(cos_i, f0).into()
+}
+
+/// [`schlick`] on lanes (the one place its formula is written; see [`crate::simd`]).
+#[inline(always)]
+pub fn schlick_lanes<F: Lane>(cos_i: F, f0: Vec3) -> V3<F> {
+    let m = F::splat(1.0) - cos_i.abs().min(F::splat(1.0));
     let m2 = m * m;
     let w = m2 * m2 * m;
-    f0 + (Vec3::ONE - f0) * w
+    V3::splat(f0) + V3::splat(Vec3::ONE - f0).scale(w)
 }
 
 /// [`schlick`] for one channel.
@@ -363,6 +370,16 @@ impl Fresnel {
             Fresnel::Dielectric { eta } => dielectric_rgb(cos_i, eta),
             Fresnel::Conductor { eta, k } => conductor(cos_i, eta, k),
             Fresnel::ColorShift { f0, f0_ref, eta_ref } => color_shift_with_ior(cos_i, f0, f0_ref, eta_ref),
+        }
+    }
+
+    /// [`Fresnel::eval`] on lanes: Schlick and `None` wide, the exact forms lane by lane.
+    #[inline(always)]
+    pub fn eval_lanes<F: Lane>(&self, cos_i: F) -> V3<F> {
+        match *self {
+            Fresnel::None => V3::splat(Vec3::ONE),
+            Fresnel::Schlick { f0 } => schlick_lanes(cos_i, f0),
+            _ => V3::from_fn(|i| self.eval(cos_i.lane(i))),
         }
     }
 }

@@ -32,6 +32,7 @@ pub mod microfacet;
 pub mod models;
 pub mod params;
 pub mod properties;
+pub mod simd;
 pub mod tonemap;
 pub mod vector;
 

@@ -23,6 +23,7 @@ use glam::Vec3A;
 use crate::BrdfError;
 use crate::frame::ShadingFrame;
 use crate::microfacet::{Distribution, Mixture, beckmann, ggx};
+use crate::simd::Lane;
 use crate::vector::halfway;
 
 /// Registry names of the masking terms.
@@ -174,16 +175,22 @@ impl Masking {
     /// cosines; the closed GGX forms for a single GGX lobe (no tan, no Λ). 0 below the horizon.
     #[inline]
     pub fn visibility(self, nl: f32, nv: f32, nh: f32, vh: f32, d: &Mixture) -> f32 {
-        if !(nl > 0.0 && nv > 0.0) {
-            return 0.0;
-        }
+        self.visibility_lanes(nl, nv, nh, vh, d)
+    }
+
+    /// [`Masking::visibility`] on lanes: the GGX Smith forms wide, the other terms lane by lane.
+    #[inline(always)]
+    pub fn visibility_lanes<F: Lane>(self, nl: F, nv: F, nh: F, vh: F, d: &Mixture) -> F {
         if let Some(Distribution::Ggx { alpha_x, .. }) = d.as_single() {
             match self {
-                Masking::Smith => return ggx::visibility_height_correlated(nl, nv, *alpha_x),
-                Masking::SmithSeparable => return ggx::visibility_separable(nl, nv, *alpha_x),
+                // Both are 0 below the horizon already.
+                Masking::Smith => return ggx::visibility_height_correlated_lanes(nl, nv, *alpha_x),
+                Masking::SmithSeparable => return ggx::visibility_separable_lanes(nl, nv, *alpha_x),
                 _ => {}
             }
         }
-        self.g_cos(nl, nv, nh, vh, d) / (4.0 * nl * nv)
+        let g = F::from_fn(|i| self.g_cos(nl.lane(i), nv.lane(i), nh.lane(i), vh.lane(i), d));
+        let zero = F::splat(0.0);
+        F::select(nl.gt(zero) & nv.gt(zero), g / (F::splat(4.0) * nl * nv), zero)
     }
 }

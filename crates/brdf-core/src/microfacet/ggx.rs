@@ -10,21 +10,26 @@
 use glam::Vec3A;
 
 use crate::microfacet::ALPHA_MIN;
+use crate::simd::Lane;
 
 /// Isotropic GGX `D` [1/sr] at `cos_h` = n·h for roughness α (clamped to ≥ [`ALPHA_MIN`]);
 /// 0 for `cos_h ≤ 0` (the χ⁺ of seed 001).
 #[inline]
 pub fn d(cos_h: f32, alpha: f32) -> f32 {
-    if !(cos_h > 0.0) {
-        return 0.0;
-    }
+    d_lanes(cos_h, alpha)
+}
+
+/// [`d`] on lanes (the one place its formula is written; see [`crate::simd`]).
+#[inline(always)]
+pub fn d_lanes<F: Lane>(cos_h: F, alpha: f32) -> F {
     let a2 = {
         let a = alpha.max(ALPHA_MIN);
         a * a
     };
-    let c2 = (cos_h * cos_h).min(1.0);
-    let t = (1.0 - c2) + a2 * c2;
-    a2 * std::f32::consts::FRAC_1_PI / (t * t)
+    let c2 = (cos_h * cos_h).min(F::splat(1.0));
+    let t = (F::splat(1.0) - c2) + F::splat(a2) * c2;
+    let d = F::splat(a2 * std::f32::consts::FRAC_1_PI) / (t * t);
+    F::select(cos_h.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 
 /// Anisotropic GGX `D` [1/sr] for a unit half vector in the local frame (x = tangent, z = normal):
@@ -82,14 +87,30 @@ pub fn g1(cos_theta: f32, alpha: f32) -> f32 {
 /// cosines are positive.
 #[inline]
 pub fn visibility_height_correlated(nl: f32, nv: f32, alpha: f32) -> f32 {
-    if !(nl > 0.0 && nv > 0.0) {
-        return 0.0;
-    }
+    visibility_height_correlated_lanes(nl, nv, alpha)
+}
+
+/// [`visibility_height_correlated`] on lanes (the one place its formula is written).
+#[inline(always)]
+pub fn visibility_height_correlated_lanes<F: Lane>(nl: F, nv: F, alpha: f32) -> F {
+    let (ll, lv) = lambda_roots(nl, nv, alpha);
+    let v = F::splat(0.5) / (nv * ll + nl * lv);
+    F::select(both_positive(nl, nv), v, F::splat(0.0))
+}
+
+/// `√((n·l)²(1 − α²) + α²)` and the same for `n·v`: `(n·w) √(1 + α² tan²θ_w)`, the root in both GGX
+/// visibility forms.
+#[inline(always)]
+fn lambda_roots<F: Lane>(nl: F, nv: F, alpha: f32) -> (F, F) {
     let a = alpha.max(ALPHA_MIN);
     let a2 = a * a;
-    let ll = (nl * nl * (1.0 - a2) + a2).sqrt();
-    let lv = (nv * nv * (1.0 - a2) + a2).sqrt();
-    0.5 / (nv * ll + nl * lv)
+    let (one_minus_a2, a2) = (F::splat(1.0 - a2), F::splat(a2));
+    ((nl * nl * one_minus_a2 + a2).sqrt(), (nv * nv * one_minus_a2 + a2).sqrt())
+}
+
+#[inline(always)]
+fn both_positive<F: Lane>(nl: F, nv: F) -> F::Mask {
+    nl.gt(F::splat(0.0)) & nv.gt(F::splat(0.0))
 }
 
 /// Separable Smith visibility of GGX, `V = G1(l) G1(v)/(4 (n·l)(n·v))`
@@ -97,12 +118,13 @@ pub fn visibility_height_correlated(nl: f32, nv: f32, alpha: f32) -> f32 {
 /// notes (b5)). 0 unless both cosines are positive.
 #[inline]
 pub fn visibility_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
-    if !(nl > 0.0 && nv > 0.0) {
-        return 0.0;
-    }
-    let a = alpha.max(ALPHA_MIN);
-    let a2 = a * a;
-    let ll = (nl * nl * (1.0 - a2) + a2).sqrt();
-    let lv = (nv * nv * (1.0 - a2) + a2).sqrt();
-    1.0 / ((nl + ll) * (nv + lv))
+    visibility_separable_lanes(nl, nv, alpha)
+}
+
+/// [`visibility_separable`] on lanes (the one place its formula is written).
+#[inline(always)]
+pub fn visibility_separable_lanes<F: Lane>(nl: F, nv: F, alpha: f32) -> F {
+    let (ll, lv) = lambda_roots(nl, nv, alpha);
+    let v = F::splat(1.0) / ((nl + ll) * (nv + lv));
+    F::select(both_positive(nl, nv), v, F::splat(0.0))
 }

@@ -32,6 +32,7 @@ pub use gaussian::Gaussian;
 
 use crate::BrdfError;
 use crate::frame::ShadingFrame;
+use crate::simd::Lane;
 
 /// Smallest roughness α used anywhere (pbrt-v4's floor; see the module docs).
 pub const ALPHA_MIN: f32 = 1e-4;
@@ -239,6 +240,15 @@ impl Distribution {
         }
     }
 
+    /// [`Distribution::d_cos`] on lanes: GGX in its wide form, the others lane by lane.
+    #[inline(always)]
+    pub fn d_cos_lanes<F: Lane>(&self, cos_h: F) -> F {
+        match *self {
+            Distribution::Ggx { alpha_x, .. } => ggx::d_lanes(cos_h, alpha_x),
+            _ => cos_h.map(|c| self.d_cos(c)),
+        }
+    }
+
     /// `D` [1/sr] for world-space unit `h` and normal `n`, with an optional tangent (an arbitrary
     /// frame is built from `n` without one). Convenience for batch/Python evaluation.
     pub fn d_world(&self, h: Vec3A, n: Vec3A, tangent: Option<Vec3A>) -> f32 {
@@ -370,7 +380,18 @@ impl Mixture {
     /// `Σ wᵢ Dᵢ` from `cos θ_h` (see [`Distribution::d_cos`]).
     #[inline]
     pub fn d_cos(&self, cos_h: f32) -> f32 {
-        self.lobes().iter().map(|(w, d)| w * d.d_cos(cos_h)).sum()
+        self.d_cos_lanes(cos_h)
+    }
+
+    /// [`Mixture::d_cos`] on lanes.
+    #[inline(always)]
+    pub fn d_cos_lanes<F: Lane>(&self, cos_h: F) -> F {
+        let mut lobes = self.lobes().iter();
+        // The first lobe starts the sum (Σ of one lobe is just w·D, with no extra rounding).
+        let Some((w, d)) = lobes.next() else { return F::splat(0.0) };
+        lobes.fold(F::splat(*w) * d.d_cos_lanes(cos_h), |sum, (w, d)| {
+            sum + F::splat(*w) * d.d_cos_lanes(cos_h)
+        })
     }
 
     /// `Σ wᵢ Λᵢ(w)`, local frame.

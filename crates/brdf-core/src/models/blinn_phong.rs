@@ -6,8 +6,9 @@ use std::f32::consts::{FRAC_1_PI, PI};
 use glam::Vec3;
 
 use crate::models::classic::MAX_SHININESS;
-use crate::models::{Bxdf, ModelKind};
+use crate::models::{Bxdf, ModelKind, physical_shade_lanes};
 use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::simd::{Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry};
 
 /// Which normalisation factor `N(m)` multiplies `(n·h)^m`.
@@ -161,10 +162,23 @@ impl Bxdf for BlinnPhong {
 
     #[inline]
     fn f(&self, g: &Geometry) -> Vec3 {
-        // Both l and v are above the surface here, so l + v ≠ 0 and n·h > 0.
-        match g.h() {
-            Some(h) => self.diffuse + self.specular * g.n.dot(h).clamp(0.0, 1.0).powf(self.shininess),
-            None => self.diffuse,
-        }
+        self.f_lanes(&LaneGeometry::from(g), true).into()
+    }
+
+    #[inline(always)]
+    fn f_lanes<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        // Both l and v are above the surface here, so l + v ≠ 0 and n·h > 0; h as in
+        // `vector::halfway` (no half vector where |l + v|² ≤ 1e−20: diffuse only).
+        let s = g.l + g.v;
+        let len2 = s.dot(s);
+        let nh = g.n.dot(s / len2.sqrt()).clamp(0.0, 1.0);
+        let m = self.shininess;
+        let lobe = V3::splat(self.diffuse) + V3::splat(self.specular).scale(nh.map(|c| c.powf(m)));
+        V3::select(len2.gt(F::splat(1e-20)), lobe, V3::splat(self.diffuse))
+    }
+
+    #[inline(always)]
+    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+        physical_shade_lanes(self, g, active)
     }
 }

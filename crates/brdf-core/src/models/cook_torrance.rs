@@ -18,8 +18,9 @@ use glam::Vec3;
 use crate::fresnel::{self, Fresnel};
 use crate::masking::{MASKING_NAMES, Masking};
 use crate::microfacet::{Distribution, Mixture};
-use crate::models::{Bxdf, ModelKind};
+use crate::models::{Bxdf, ModelKind, physical_shade_lanes};
 use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::simd::{Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry};
 
 /// Distributions the Cook–Torrance model accepts (isotropic ones).
@@ -61,19 +62,31 @@ impl CookTorrance {
     /// cosines are positive and `l ≠ −v`.
     #[inline]
     pub fn specular(&self, nl: f32, nv: f32, lv: f32) -> Vec3 {
-        let s2 = 2.0 + 2.0 * lv; // |l + v|²
-        if !(nl > 0.0 && nv > 0.0 && s2 > 1e-12) {
-            return Vec3::ZERO;
-        }
-        let inv_len = s2.sqrt().recip();
-        let nh = ((nl + nv) * inv_len).min(1.0);
-        let vh = 0.5 * s2 * inv_len; // |l+v|/2 = v·h = l·h
-        let d = self.distribution.d_cos(nh);
-        if d == 0.0 {
-            return Vec3::ZERO;
-        }
-        let vis = self.masking.visibility(nl, nv, nh, vh, &self.distribution);
-        self.fresnel.eval(vh) * (d * vis)
+        self.specular_lanes(nl, nv, lv).into()
+    }
+
+    /// [`CookTorrance::specular`] on lanes (the one place its formula is written; see
+    /// [`crate::simd`]).
+    #[inline(always)]
+    pub fn specular_lanes<F: Lane>(&self, nl: F, nv: F, lv: F) -> V3<F> {
+        let zero = F::splat(0.0);
+        let s2 = F::splat(2.0) + F::splat(2.0) * lv; // |l + v|²
+        let inv_len = F::splat(1.0) / s2.sqrt();
+        let nh = ((nl + nv) * inv_len).min(F::splat(1.0));
+        let vh = F::splat(0.5) * s2 * inv_len; // |l+v|/2 = v·h = l·h
+        let d = self.distribution.d_cos_lanes(nh);
+        let vis = self.masking.visibility_lanes(nl, nv, nh, vh, &self.distribution);
+        let lobe = self.fresnel.eval_lanes(vh).scale(d * vis);
+        // 0 below the horizon, for l = −v, and where D = 0 (whatever G and F give there).
+        let ok = nl.gt(zero) & nv.gt(zero) & s2.gt(F::splat(1e-12)) & !d.eq(zero);
+        V3::select(ok, lobe, V3::splat(Vec3::ZERO))
+    }
+
+    /// The whole BRDF on lanes; [`Bxdf::f`] is this with `F = f32`.
+    #[inline(always)]
+    fn f_generic<F: Lane>(&self, g: &LaneGeometry<F>) -> V3<F> {
+        V3::splat(self.kd * std::f32::consts::FRAC_1_PI)
+            + V3::splat(self.ks) * self.specular_lanes(g.nl, g.nv, g.l.dot(g.v))
     }
 }
 
@@ -189,6 +202,16 @@ impl Bxdf for CookTorrance {
 
     #[inline]
     fn f(&self, g: &Geometry) -> Vec3 {
-        self.kd * std::f32::consts::FRAC_1_PI + self.ks * self.specular(g.nl, g.nv, g.l.dot(g.v))
+        self.f_generic(&LaneGeometry::from(g)).into()
+    }
+
+    #[inline(always)]
+    fn f_lanes<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        self.f_generic(g)
+    }
+
+    #[inline(always)]
+    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+        physical_shade_lanes(self, g, active)
     }
 }

@@ -2,8 +2,9 @@
 
 use glam::Vec3;
 
-use crate::models::{Bxdf, ModelKind};
+use crate::models::{Bxdf, ModelKind, physical_shade_lanes};
 use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::simd::{Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry};
 
 /// Ideal diffuse reflector: `f_r = ρ/π` [1/sr]; directional albedo is exactly `ρ`.
@@ -43,7 +44,17 @@ impl Bxdf for Lambert {
     }
 
     #[inline]
-    fn f(&self, _g: &Geometry) -> Vec3 {
-        self.albedo * std::f32::consts::FRAC_1_PI
+    fn f(&self, g: &Geometry) -> Vec3 {
+        self.f_lanes(&LaneGeometry::from(g), true).into()
+    }
+
+    #[inline(always)]
+    fn f_lanes<F: Lane>(&self, _g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        V3::splat(self.albedo * std::f32::consts::FRAC_1_PI)
+    }
+
+    #[inline(always)]
+    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+        physical_shade_lanes(self, g, active)
     }
 }

@@ -12,6 +12,7 @@
 use glam::Vec3;
 
 use crate::params::{Input, ModelSpec, Params};
+use crate::simd::{Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry};
 
 pub mod ashikhmin_shirley;
@@ -68,6 +69,31 @@ pub trait Bxdf: Sized + Send + Sync {
     fn shade(&self, g: &Geometry) -> Vec3 {
         self.f(g) * g.nl.max(0.0)
     }
+
+    /// [`Bxdf::f`] on `F::LANES` samples at once (the batch evaluator uses eight, see
+    /// [`crate::simd`]). Only the lanes in `active` matter: the others may hold any geometry and their
+    /// result is discarded. The default runs the scalar `f` on each active lane. A model whose formula
+    /// is written generically over [`Lane`] overrides this and implements `f` as this method with
+    /// `F = f32`, so that the formula exists once and both paths give the same bits.
+    #[inline]
+    fn f_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+        V3::from_fn(|i| if F::mask_lane(active, i) { self.f(&g.lane(i)) } else { Vec3::ZERO })
+    }
+
+    /// [`Bxdf::shade`] on `F::LANES` samples at once; the default runs the scalar `shade` on each
+    /// active lane. Models that override [`Bxdf::f_lanes`] and keep the default `shade` override this
+    /// with [`physical_shade_lanes`].
+    #[inline]
+    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+        V3::from_fn(|i| if F::mask_lane(active, i) { self.shade(&g.lane(i)) } else { Vec3::ZERO })
+    }
+}
+
+/// The default [`Bxdf::shade`], `f_r · max(n·l, 0)`, on lanes (for models that override
+/// [`Bxdf::f_lanes`]).
+#[inline(always)]
+pub fn physical_shade_lanes<M: Bxdf, F: Lane>(m: &M, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+    m.f_lanes(g, active).scale(g.nl.max(F::splat(0.0)))
 }
 
 /// `f` of a classic model: its course formula divided by `n·l`, 0 where `n·l ≤ 0`.
@@ -92,6 +118,27 @@ pub fn shade_model<M: Bxdf>(m: &M, g: &Geometry) -> Vec3 {
         ModelKind::Physical if !g.both_above() => Vec3::ZERO,
         _ => m.shade(g),
     }
+}
+
+/// [`eval_model`] on lanes: `valid` marks the lanes whose geometry exists (see
+/// [`LaneGeometry::new`]); the others, and below-horizon lanes of physical models, give 0.
+#[inline(always)]
+pub fn eval_model_lanes<M: Bxdf, F: Lane>(m: &M, g: &LaneGeometry<F>, valid: F::Mask) -> V3<F> {
+    let active = match M::KIND {
+        ModelKind::Physical => valid & g.both_above(),
+        ModelKind::Classic => valid,
+    };
+    V3::select(active, m.f_lanes(g, active), V3::splat(Vec3::ZERO))
+}
+
+/// [`shade_model`] on lanes, with the conventions of [`eval_model_lanes`].
+#[inline(always)]
+pub fn shade_model_lanes<M: Bxdf, F: Lane>(m: &M, g: &LaneGeometry<F>, valid: F::Mask) -> V3<F> {
+    let active = match M::KIND {
+        ModelKind::Physical => valid & g.both_above(),
+        ModelKind::Classic => valid,
+    };
+    V3::select(active, m.shade_lanes(g, active), V3::splat(Vec3::ZERO))
 }
 
 /// A computation generic over the model type, run by [`Model::visit`].
