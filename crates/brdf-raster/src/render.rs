@@ -63,9 +63,11 @@ use crate::tiles::{
 
 /// Largest accepted image width or height in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
-/// Largest accepted number of samples per frame, `width · height · samples_per_pixel` (2^28: the
-/// frame's buffers then take at most about 10 GB; a 16384² image fits only without supersampling).
-pub const MAX_SAMPLES: u64 = 1 << 28;
+/// Largest accepted number of samples per frame, `width · height · samples_per_pixel` (2^26, e.g.
+/// 8192 × 8192 at one sample per pixel or 2048 × 2048 at 16). A frame holds 32 bytes per pixel (HDR
+/// colour, depth, normal, triangle id), so the limit keeps it near 2 GB; each band being drawn needs
+/// 8 more bytes per sample of its rows (24 with supersampling).
+pub const MAX_SAMPLES: u64 = 1 << 26;
 
 /// How to render.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -353,7 +355,6 @@ impl<'a> Prepared<'a> {
         let (mut vertex_base, mut face_base) = (0usize, 0u32);
         for inst in &scene.instances {
             let m = inst.transform;
-            let affine = m.row(3) == Vec4::W;
             let nm = inst.normal_matrix();
             let mesh = &inst.mesh;
             let n = mesh.positions.len();
@@ -375,7 +376,7 @@ impl<'a> Prepared<'a> {
                 .zip(mesh.positions.par_iter().zip(mesh.normals.par_iter()))
                 .with_min_len(4096)
                 .for_each(|(((sv, cv), wv), (&p, &n))| {
-                    let p = if affine { m.transform_point3(p) } else { m.project_point3(p) };
+                    let p = m.transform_point3(p);
                     *wv = WorldVertex { p, n: (nm * n).normalize_or_zero() };
                     *cv = view_proj * p.extend(1.0);
                     let code = guard.outcode(*cv);

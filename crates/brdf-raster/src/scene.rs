@@ -56,7 +56,7 @@ pub struct Instance {
     pub mesh: Arc<Mesh>,
     /// Its material.
     pub material: Material,
-    /// Object → world transform (affine or projective; positions are divided by w). Normals are
+    /// Object → world transform, affine (last row `0 0 0 1`; checked by [`Scene::validate`]). Normals are
     /// transformed by the inverse transpose of its upper 3×3; a mirroring transform (negative
     /// determinant) keeps the counter-clockwise side as the front.
     pub transform: Mat4,
@@ -116,13 +116,19 @@ impl Scene {
         self.instances.iter().map(|i| i.mesh.indices.len()).sum()
     }
 
-    /// Check everything a render relies on: finite invertible transforms, valid materials and lights,
+    /// Check everything a render relies on: finite, affine, invertible transforms, valid materials and lights,
     /// finite colours, and at most `u32::MAX − 1` faces and vertices in total (ids fit `u32`).
     pub fn validate(&self) -> Result<(), RasterError> {
         for (k, inst) in self.instances.iter().enumerate() {
             let m = inst.transform;
             if !m.is_finite() {
                 return Err(RasterError::arg("transform", format!("instance {k}: not finite")));
+            }
+            if m.row(3) != glam::Vec4::W {
+                return Err(RasterError::arg(
+                    "transform",
+                    format!("instance {k}: must be affine (last row 0 0 0 1), got {}", m.row(3)),
+                ));
             }
             let det = Mat3::from_mat4(m).determinant();
             if !(det.abs() > 0.0) || !det.is_finite() {

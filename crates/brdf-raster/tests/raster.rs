@@ -498,6 +498,9 @@ fn bad_input_is_refused_with_a_clear_error() {
     assert!(render(&bad, &camera, &RenderOptions::new(8, 8)).unwrap_err().to_string().contains("singular"));
     bad.instances[0].transform = Mat4::from_translation(Vec3::new(f32::NAN, 0.0, 0.0));
     assert!(render(&bad, &camera, &RenderOptions::new(8, 8)).is_err());
+    bad.instances[0].transform =
+        Mat4::from_cols(glam::Vec4::new(1.0, 0.0, 0.0, 0.5), glam::Vec4::Y, glam::Vec4::Z, glam::Vec4::W);
+    assert!(render(&bad, &camera, &RenderOptions::new(8, 8)).unwrap_err().to_string().contains("affine"));
     // An empty scene renders the background.
     let empty = Scene { background: Vec3::new(0.1, 0.2, 0.3), ..Scene::new() };
     let frame = render(&empty, &camera, &RenderOptions::new(4, 3)).unwrap();
