@@ -7,6 +7,8 @@ back-face culling keeps; vertex normals are unit length and point out of the fro
 
 from __future__ import annotations
 
+import copy
+
 import os
 from typing import Any, Union
 
@@ -298,7 +300,8 @@ class Mesh:
 
     def copy(self) -> Mesh:
         """An independent copy."""
-        return Mesh._wrap(self._m.transformed(_mat4("matrix", np.eye(4))))
+        # Copy-on-write: the data are shared until either mesh is changed in place.
+        return Mesh._wrap(copy.copy(self._m))
 
 
 def _mat4(name: str, m: ArrayLike) -> list[float]:

@@ -184,7 +184,8 @@ class Scene:
         emission : number or three numbers
             Emitted radiance (linear RGB), added unlit.
         """
-        m = Mesh.from_any(mesh)
+        # The scene keeps the mesh as it is now (a copy-on-write handle, no data copied).
+        m = Mesh.from_any(mesh).copy()
         if material is None:
             material = Model("lambert")
         elif isinstance(material, str):

@@ -296,19 +296,29 @@ def cook_torrance(
     if fresnel == "none":
         f = np.ones((len(c), 3))
     elif fresnel == "schlick":
-        # A reflectance cannot exceed 1: seed 001's table gives gold's red F0 as 1.022 (an artifact of its
-        # colour conversion), so the preset is clipped to [0, 1].
-        f0c = np.minimum(color(fr.METAL_F0[metal]), 1.0) if metal != "none" else color(f0)
-        f = fr.schlick(c[..., None], f0c)
+        f = fr.schlick(c[..., None], _metal_f0(metal) if metal != "none" else color(f0))
     elif fresnel == "dielectric":
-        f = np.repeat(fr.dielectric(c, ior)[..., None], 3, axis=-1)
+        if metal == "none":
+            f = np.repeat(fr.dielectric(c, ior)[..., None], 3, axis=-1)
+        else:
+            # Registry doc: a metal preset drives every Fresnel choice. Dielectric: one index per channel
+            # that reproduces F0 at normal incidence, F0 = ((eta-1)/(eta+1))^2 solved for eta (seed 004).
+            r = np.sqrt(np.minimum(_metal_f0(metal), 0.9999))
+            etas = (1.0 + r) / (1.0 - r)
+            f = np.stack([fr.dielectric(c, e) for e in etas], axis=-1)
     elif fresnel == "conductor":
-        f = fr.conductor(c[..., None], color(eta), color(k))
+        if metal == "none":
+            f = fr.conductor(c[..., None], color(eta), color(k))
+        else:
+            # eta = 1 and F0 = k^2 / (4 + k^2) at normal incidence (complex Fresnel with n = 1 + ik), solved
+            # for k: the conductor that reflects exactly F0 head-on (pbrt-v4 ConductorMaterial).
+            f0m = np.minimum(_metal_f0(metal), 0.9999)
+            f = fr.conductor(c[..., None], np.ones(3), np.sqrt(4.0 * f0m / (1.0 - f0m)))
     elif fresnel == "color_shift":
         # Cook & Torrance's colour shift (seed 004 "Cook-Torrance (15)"; seed 001): the angular shape comes
         # from the exact Fresnel of one reference wavelength; brdfpy's convention takes the mean of the
         # three F0 channels as that reference, with eta_ref = ior_from_f0(F0_ref). c0 = F0, c90 = 1.
-        f0c = color(f0)
+        f0c = _metal_f0(metal) if metal != "none" else color(f0)
         ref = float(np.mean(f0c))
         f_ref = fr.dielectric(c, fr.ior_from_f0(ref))
         f = fr.color_shift(f_ref[..., None], ref, f0c, 1.0)
@@ -320,6 +330,12 @@ def cook_torrance(
 
 
 # --------------------------------------------------------------------------------- Strauss
+
+
+def _metal_f0(metal: str) -> F64:
+    """Seed 001's metal F0, clipped to 1: gold's red 1.022 there is an artifact of its colour conversion
+    (a reflectance cannot exceed 1)."""
+    return np.minimum(color(fr.METAL_F0[metal]), 1.0)
 
 
 def _strauss_f(x: F64, kf: float) -> F64:

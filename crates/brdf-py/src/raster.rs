@@ -98,6 +98,12 @@ fn weighting(name: &str) -> PyResult<Weighting> {
 
 #[pymethods]
 impl RasterMesh {
+    /// A handle to the same data, copied on the first in-place change of either (`Arc::make_mut`): what a
+    /// scene takes when a mesh is added, so later edits of the mesh do not reach the scene.
+    fn __copy__(&self) -> Self {
+        Self { inner: Arc::clone(&self.inner) }
+    }
+
     /// Validate and build: `vertices` float32 (V, 3), `faces` uint32 (F, 3), `normals` float32 (V, 3)
     /// or `None` (angle-weighted vertex normals), `colors` float32 (V, 3) linear RGB or `None`.
     #[new]
