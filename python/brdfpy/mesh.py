@@ -8,7 +8,6 @@ back-face culling keeps; vertex normals are unit length and point out of the fro
 from __future__ import annotations
 
 import copy
-
 import os
 from typing import Any, Union
 
