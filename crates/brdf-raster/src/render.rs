@@ -806,15 +806,32 @@ impl BaryPlanes {
     fn new(rays: &Rays, p: [Vec3; 3], c0: i32, r0: i32) -> Self {
         let p0 = p[0].as_dvec3();
         let (e1, e2) = (p[1].as_dvec3() - p0, p[2].as_dvec3() - p0);
-        let eval = |c: i32, r: i32| {
-            let (o, d) = rays.ray(c, r);
-            let pv = d.cross(e2);
-            let t = o - p0;
-            DVec3::new(e1.dot(pv), t.dot(pv), d.dot(t.cross(e1)))
-        };
-        let (a, ac, ar) = (eval(c0, r0), eval(c0 + 1, r0), eval(c0, r0 + 1));
-        let (dc, dr) = (ac - a, ar - a);
-        Self { c0, r0, d: [a.x, dc.x, dr.x], u: [a.y, dc.y, dr.y], v: [a.z, dc.z, dr.z] }
+        let (o, d) = rays.ray(c0, r0);
+        let t = o - p0;
+        let plane = |at: f64, per_c: f64, per_r: f64| [at, per_c, per_r];
+        if rays.perspective {
+            // o fixed: D = d·(e2×e1), U = d·(e2×t), V = d·(t×e1), linear in d.
+            let (a, b, c) = (e2.cross(e1), e2.cross(t), t.cross(e1));
+            let (dc, dr) = (rays.d_c, rays.d_r);
+            Self {
+                c0,
+                r0,
+                d: plane(d.dot(a), dc.dot(a), dr.dot(a)),
+                u: plane(d.dot(b), dc.dot(b), dr.dot(b)),
+                v: plane(d.dot(c), dc.dot(c), dr.dot(c)),
+            }
+        } else {
+            // d fixed: D = e1·(d×e2) constant, U = t·(d×e2), V = t·(e1×d), linear in o.
+            let (pv, qv) = (d.cross(e2), e1.cross(d));
+            let (oc, or) = (rays.o_c, rays.o_r);
+            Self {
+                c0,
+                r0,
+                d: plane(e1.dot(pv), 0.0, 0.0),
+                u: plane(t.dot(pv), oc.dot(pv), or.dot(pv)),
+                v: plane(t.dot(qv), oc.dot(qv), or.dot(qv)),
+            }
+        }
     }
 
     /// Barycentrics at sample `(c, r)`; the centroid if the ray is parallel to the triangle's plane.
@@ -839,6 +856,13 @@ impl BaryPlanes {
 /// from unprojected points in f64. A perspective camera's rays all start at the eye.
 #[derive(Debug, Clone, Copy)]
 struct Rays {
+    /// Perspective: every ray starts at the eye (`o_x = o_y = 0`); orthographic: `d` is constant.
+    perspective: bool,
+    /// Change of origin and direction per sample column and per sample row.
+    o_c: DVec3,
+    o_r: DVec3,
+    d_c: DVec3,
+    d_r: DVec3,
     o: DVec3,
     o_x: DVec3,
     o_y: DVec3,
@@ -861,15 +885,23 @@ impl Rays {
             Some(e) => (e.as_dvec3(), DVec3::ZERO, DVec3::ZERO),
             None => (o, ox - o, oy - o),
         };
+        let (d_x, d_y) = (fx - ox - d, fy - oy - d);
+        let sx = 2.0 / f64::from(viewport.width);
+        let sy = 2.0 / f64::from(viewport.height);
         Self {
+            perspective: eye.is_some(),
+            o_c: o_x * sx,
+            o_r: -o_y * sy,
+            d_c: d_x * sx,
+            d_r: -d_y * sy,
             o,
             o_x,
             o_y,
             d,
-            d_x: (fx - ox) - d,
-            d_y: (fy - oy) - d,
-            sx: 2.0 / f64::from(viewport.width),
-            sy: 2.0 / f64::from(viewport.height),
+            d_x,
+            d_y,
+            sx,
+            sy,
         }
     }
 
