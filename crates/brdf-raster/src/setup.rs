@@ -82,10 +82,19 @@ impl Viewport {
         let yn = f64::from(c.y) * inv_w;
         let zn = f64::from(c.z) * inv_w;
         let s = SUBPIXEL_ONE as f64;
-        let x = ((xn + 1.0) * (0.5 * f64::from(self.width)) * s).round() as i64;
-        let y = ((1.0 - yn) * (0.5 * f64::from(self.height)) * s).round() as i64;
+        let x = round_half_up((xn + 1.0) * (0.5 * f64::from(self.width)) * s);
+        let y = round_half_up((1.0 - yn) * (0.5 * f64::from(self.height)) * s);
         SetupVertex { x, y, z: ((zn + 1.0) * 0.5) as f32 }
     }
+}
+
+/// `floor(v + ½)` for `|v| < 2^62`, by truncation: the baseline x86-64 target has no rounding
+/// instruction, and `f64::round` would be a library call in the hottest loop of the vertex stage.
+#[inline(always)]
+fn round_half_up(v: f64) -> i64 {
+    let w = v + 0.5;
+    let t = w as i64;
+    if (t as f64) > w { t - 1 } else { t }
 }
 
 /// A plane `a(c, r) = a0 + (c − c0)·dx + (r − r0)·dy` over sample coordinates (anchored at the
@@ -269,6 +278,15 @@ mod tests {
 
     const VP: Viewport = Viewport { width: 16, height: 16 };
     const NO_CULL: Culling = Culling { back: false, mirrored: false };
+
+    #[test]
+    fn snapping_rounds_half_up_to_the_nearest_256th() {
+        for (v, r) in
+            [(0.49, 0), (0.5, 1), (-0.5, 0), (-0.51, -1), (2.5, 3), (-2.5, -2), (1e9 + 0.25, 1_000_000_000)]
+        {
+            assert_eq!(round_half_up(v), r, "{v}");
+        }
+    }
 
     #[test]
     fn a_square_split_along_either_diagonal_covers_each_pixel_once() {
