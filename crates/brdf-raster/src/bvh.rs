@@ -21,9 +21,12 @@
 //! traversal stack) on pathological input.
 //!
 //! ## Layout
-//! One flat `Vec` of 32-byte nodes; the two children of an interior node are adjacent (`c`, `c+1`), so
-//! a traversal step reads both child boxes together. Triangles are copied into leaf order
-//! (`[Vec3; 3]` each) with a parallel array of original triangle ids.
+//! The binary SAH tree is collapsed into a 4-wide tree (Wald, Benthin & Boulos 2008, "Getting rid of
+//! packets"; the layout of Embree's BVH4): each node holds its up to four children's boxes in SoA form
+//! (one `Vec4` per bound and axis), so a traversal step tests four boxes with a dozen SIMD operations,
+//! and the tree is about half as deep. Triangles are copied into leaf order (`[Vec3; 3]` each) with a
+//! parallel array of original triangle ids. Closest-hit visits children nearest first and skips
+//! entries farther than the best hit so far.
 //!
 //! ## Queries
 //! A ray is `origin + t·dir` for `t ∈ [max(t_min, 0), t_max]`; `dir` need not be unit (t is then in
@@ -54,8 +57,46 @@ pub const COHERENT_BATCH: usize = 4096;
 pub const SAH_DEPTH_LIMIT: usize = 48;
 /// Cost of one traversal step relative to one triangle test, in the SAH.
 const TRAVERSAL_COST: f32 = 1.0;
-/// Traversal stack size: depth ≤ SAH_DEPTH_LIMIT + log2(MAX_ELEMENTS) + 1 < 128.
-const STACK: usize = 128;
+/// Traversal stack entries kept inline; deeper stacks spill to the heap. A wide node pushes at most 4
+/// entries after popping one, so a path of depth `D` keeps at most `3D + 1` entries; typical trees need
+/// far fewer than 64, and a small array is cheap to set up for every ray.
+const STACK: usize = 64;
+
+/// A LIFO stack with [`STACK`] entries inline and a heap spill beyond (for pathological depths).
+struct Stack<T: Copy + Default> {
+    inline: [T; STACK],
+    len: usize,
+    spill: Vec<T>,
+}
+
+impl<T: Copy + Default> Stack<T> {
+    #[inline(always)]
+    fn new(first: T) -> Self {
+        let mut inline = [T::default(); STACK];
+        inline[0] = first;
+        Self { inline, len: 1, spill: Vec::new() }
+    }
+    #[inline(always)]
+    fn push(&mut self, x: T) {
+        if self.len < STACK {
+            self.inline[self.len] = x;
+            self.len += 1;
+        } else {
+            self.spill.push(x);
+        }
+    }
+    #[inline(always)]
+    fn pop(&mut self) -> Option<T> {
+        if let Some(x) = self.spill.pop() {
+            return Some(x);
+        }
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        Some(self.inline[self.len])
+    }
+}
 /// `1 + 2γ₃` with `γₙ = nε/(1 − nε)`, ε = 2⁻²⁴ (pbrt-v4 §6.8.2): conservative slab far distance.
 const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 const _: () = assert!(FAR_SCALE > 1.0 && FAR_SCALE < 1.0 + 1e-6);
@@ -136,16 +177,6 @@ impl Prepared {
         }
         let s = [da[kx] / da[kz], da[ky] / da[kz], 1.0 / da[kz]];
         Self { o: Vec3A::from(ray.origin), inv, k: [kx, ky, kz], s, t_min: ray.t_min.max(0.0) }
-    }
-
-    /// Entry distance into the box if the segment `[t_min, t_max]` meets it, else `f32::INFINITY`.
-    #[inline(always)]
-    fn slab(&self, n: &Node, t_max: f32) -> f32 {
-        let t1 = (n.min() - self.o) * self.inv;
-        let t2 = (n.max() - self.o) * self.inv;
-        let near = t1.min(t2).max_element().max(self.t_min);
-        let far = (t1.max(t2).min_element() * FAR_SCALE).min(t_max);
-        if near <= far { near } else { f32::INFINITY }
     }
 
     /// The watertight test (Woop, Benthin & Wald 2013) for `t ∈ [t_min, t_max]`:
@@ -271,7 +302,7 @@ impl PrimRef {
     }
 }
 
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy)]
 struct Aabb {
     min: Vec3A,
     max: Vec3A,
@@ -310,7 +341,12 @@ enum Sub {
 /// A BVH over triangles, with exact closest-hit and any-hit queries (see the module docs).
 #[derive(Debug, Clone)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    /// 4-wide nodes (collapsed from the binary SAH tree), root at 0.
+    wide: Vec<Node4>,
+    /// Scene box.
+    root: Aabb,
+    /// Shape of the binary tree it was collapsed from.
+    stats: BvhStats,
     /// Triangles in leaf order.
     tris: Vec<[Vec3; 3]>,
     /// Original triangle id of each entry of `tris`.
@@ -429,20 +465,33 @@ impl Bvh {
             let (a, b, c) = (Vec3A::from(t[0]), Vec3A::from(t[1]), Vec3A::from(t[2]));
             Some(PrimRef { min: a.min(b).min(c), max: a.max(b).max(c), idx: f as u32 })
         }));
-        let mut nodes: Vec<Node> = Vec::new();
-        nodes.try_reserve_exact(2 * refs.len().max(1)).map_err(|_| too_big("node array"))?;
         if refs.is_empty() {
-            // Nothing to hit: one empty leaf with an inverted box that every slab test rejects.
-            nodes.push(Node::new(Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY), 0, 0));
-            return Ok(Self { nodes, tris: Vec::new(), ids: Vec::new(), input_triangles: n });
+            // Nothing to hit: a root with no children.
+            return Ok(Self {
+                wide: vec![Node4::EMPTY],
+                root: Aabb::EMPTY,
+                stats: BvhStats::default(),
+                tris: Vec::new(),
+                ids: Vec::new(),
+                input_triangles: n,
+            });
         }
+        let mut nodes: Vec<Node> = Vec::new();
+        nodes.try_reserve_exact(2 * refs.len()).map_err(|_| too_big("node array"))?;
         let sub = build_sub(&mut refs, 0, 0);
         place(sub, 0, &mut nodes, true);
+        let stats = binary_stats(&nodes);
+        let mut wide: Vec<Node4> = Vec::new();
+        wide.try_reserve_exact(nodes.len() / 2 + 1).map_err(|_| too_big("node array"))?;
+        collapse(&nodes, 0, &mut wide);
+        let root = Aabb { min: nodes[0].min(), max: nodes[0].max() };
+        drop(nodes);
         let mut tris: Vec<[Vec3; 3]> = Vec::new();
         tris.try_reserve_exact(refs.len()).map_err(|_| too_big("triangle array"))?;
         tris.par_extend(refs.par_iter().map(|r| tri(r.idx as usize)));
         let ids = refs.iter().map(|r| r.idx).collect();
-        Ok(Self { nodes, tris, ids, input_triangles: n })
+        let stats = BvhStats { nodes: wide.len(), ..stats };
+        Ok(Self { wide, root, stats, tris, ids, input_triangles: n })
     }
 
     /// Number of triangles in the input (including skipped ones).
@@ -460,14 +509,14 @@ impl Bvh {
         self.input_triangles - self.tris.len()
     }
 
-    /// Number of nodes in the flat array.
+    /// Number of (4-wide) nodes in the flat array.
     pub fn node_count(&self) -> usize {
-        self.nodes.len()
+        self.wide.len()
     }
 
     /// The scene box `(min, max)` of all non-degenerate triangles (inverted when there are none).
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        (self.nodes[0].min().into(), self.nodes[0].max().into())
+        (self.root.min.into(), self.root.max.into())
     }
 
     /// The largest coordinate magnitude in the scene box (0 for an empty tree), the scale that
@@ -482,44 +531,24 @@ impl Bvh {
 
     /// Shape of the tree: node, leaf and depth counts and the SAH cost (for benchmarks and tuning).
     pub fn stats(&self) -> BvhStats {
-        let mut st = BvhStats { nodes: self.nodes.len(), ..BvhStats::default() };
-        if self.tris.is_empty() {
-            return st;
-        }
-        let root_area = half_area(&self.nodes[0]).max(f32::MIN_POSITIVE) as f64;
-        let mut stack = vec![(0usize, 1usize)];
-        while let Some((i, depth)) = stack.pop() {
-            let nd = &self.nodes[i];
-            let rel = half_area(nd) as f64 / root_area;
-            st.max_depth = st.max_depth.max(depth);
-            if nd.count() > 0 {
-                st.leaves += 1;
-                st.max_leaf = st.max_leaf.max(nd.count() as usize);
-                st.sah_cost += rel * nd.count() as f64;
-            } else {
-                st.sah_cost += rel * f64::from(TRAVERSAL_COST);
-                stack.push((nd.first() as usize, depth + 1));
-                stack.push((nd.first() as usize + 1, depth + 1));
-            }
-        }
-        st
+        self.stats
     }
 
     /// The closest hit on the segment, or `None` (ties: see the module docs).
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
         let pre = Prepared::new(ray);
+        let w = Wide::new(&pre);
         let mut best_t = ray.t_max;
         let mut best: Option<Hit> = None;
-        if self.tris.is_empty() || pre.slab(&self.nodes[0], best_t) == f32::INFINITY {
-            return None;
-        }
-        let mut stack = [(0u32, 0f32); STACK];
-        let mut sp = 0usize;
-        let mut node = &self.nodes[0];
-        loop {
-            if node.count() > 0 {
-                let first = node.first() as usize;
-                for i in first..first + node.count() as usize {
+        // Entries: (child, count, entry distance); count > 0 marks a leaf.
+        let mut stack = Stack::new((0u32, 0u32, 0f32));
+        while let Some((child, count, dist)) = stack.pop() {
+            if dist > best_t {
+                continue;
+            }
+            if count > 0 {
+                let first = child as usize;
+                for i in first..first + count as usize {
                     if let Some((t, u, v)) = pre.triangle(&self.tris[i], best_t) {
                         let id = self.ids[i];
                         // Smallest t; equal t → smallest id (independent of traversal order).
@@ -529,74 +558,54 @@ impl Bvh {
                         }
                     }
                 }
-            } else {
-                let c = node.first() as usize;
-                let (l, r) = (&self.nodes[c], &self.nodes[c + 1]);
-                let (dl, dr) = (pre.slab(l, best_t), pre.slab(r, best_t));
-                // Visit the nearer child first; keep the farther one with its entry distance.
-                let (near, far, dn, df) = if dl <= dr { (c, c + 1, dl, dr) } else { (c + 1, c, dr, dl) };
-                if dn != f32::INFINITY {
-                    if df != f32::INFINITY {
-                        stack[sp] = (far as u32, df);
-                        sp += 1;
+                continue;
+            }
+            let node = &self.wide[child as usize];
+            let (mask, near) = w.test(node, best_t);
+            // Push the hit children farthest first, so the nearest is popped next.
+            let mut order = [(0f32, 0usize); 4];
+            let mut k = 0;
+            for (lane, &d) in near.iter().enumerate() {
+                if mask & (1 << lane) != 0 {
+                    let mut j = k;
+                    while j > 0 && order[j - 1].0 < d {
+                        order[j] = order[j - 1];
+                        j -= 1;
                     }
-                    node = &self.nodes[near];
-                    continue;
+                    order[j] = (d, lane);
+                    k += 1;
                 }
             }
-            // Pop the next node still nearer than the best hit.
-            loop {
-                if sp == 0 {
-                    return best;
-                }
-                sp -= 1;
-                let (i, d) = stack[sp];
-                if d <= best_t {
-                    node = &self.nodes[i as usize];
-                    break;
-                }
+            for &(d, lane) in &order[..k] {
+                stack.push((node.child[lane], node.count[lane], d));
             }
         }
+        best
     }
 
     /// Whether anything is hit on the segment (shadow and visibility rays); stops at the first hit.
     pub fn any_hit(&self, ray: &Ray) -> bool {
         let pre = Prepared::new(ray);
+        let w = Wide::new(&pre);
         let t_max = ray.t_max;
-        if self.tris.is_empty() || pre.slab(&self.nodes[0], t_max) == f32::INFINITY {
-            return false;
-        }
-        let mut stack = [0u32; STACK];
-        let mut sp = 0usize;
-        let mut node = &self.nodes[0];
-        loop {
-            if node.count() > 0 {
-                let first = node.first() as usize;
-                let tris = &self.tris[first..first + node.count() as usize];
-                if tris.iter().any(|t| pre.triangle(t, t_max).is_some()) {
+        let mut stack = Stack::new((0u32, 0u32));
+        while let Some((child, count)) = stack.pop() {
+            if count > 0 {
+                let first = child as usize;
+                if self.tris[first..first + count as usize].iter().any(|t| pre.triangle(t, t_max).is_some()) {
                     return true;
                 }
-            } else {
-                let c = node.first() as usize;
-                let (l, r) = (&self.nodes[c], &self.nodes[c + 1]);
-                let (dl, dr) = (pre.slab(l, t_max), pre.slab(r, t_max));
-                // Nearer child first: an occluder is more likely found early there.
-                let (near, far, dn, df) = if dl <= dr { (c, c + 1, dl, dr) } else { (c + 1, c, dr, dl) };
-                if dn != f32::INFINITY {
-                    if df != f32::INFINITY {
-                        stack[sp] = far as u32;
-                        sp += 1;
-                    }
-                    node = &self.nodes[near];
-                    continue;
+                continue;
+            }
+            let node = &self.wide[child as usize];
+            let (mask, _) = w.test(node, t_max);
+            for lane in 0..4 {
+                if mask & (1 << lane) != 0 {
+                    stack.push((node.child[lane], node.count[lane]));
                 }
             }
-            if sp == 0 {
-                return false;
-            }
-            sp -= 1;
-            node = &self.nodes[stack[sp] as usize];
         }
+        false
     }
 
     /// [`Bvh::closest_hit`] for every ray, in parallel; `out[i]` answers `rays[i]` (same result at any
@@ -619,7 +628,7 @@ impl Bvh {
         if rays.len() <= COHERENT_BATCH || self.tris.is_empty() {
             return rays.par_iter().with_min_len(256).map(f).collect();
         }
-        let (lo, hi) = (self.nodes[0].min(), self.nodes[0].max());
+        let (lo, hi) = (self.root.min, self.root.max);
         let scale =
             Vec3A::select((hi - lo).cmpgt(Vec3A::ZERO), Vec3A::splat(1023.0) / (hi - lo), Vec3A::ZERO);
         let mut keyed: Vec<(u64, u32)> = rays
@@ -653,6 +662,154 @@ fn spread_bits(x: u32) -> u64 {
     x = (x | x << 4) & 0x030c_30c3;
     x = (x | x << 2) & 0x0924_9249;
     x
+}
+
+/// Four children's boxes in SoA layout (one `Vec4` per bound and axis, 128 bytes in all) so that one
+/// node test checks four boxes with a handful of SIMD operations. Child `i` is a leaf when
+/// `count[i] > 0` (triangles `child[i] .. child[i] + count[i]`), an interior node `child[i]` when
+/// `count[i] == 0`; lanes `len..4` are unused.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+struct Node4 {
+    min_x: Vec4,
+    min_y: Vec4,
+    min_z: Vec4,
+    max_x: Vec4,
+    max_y: Vec4,
+    max_z: Vec4,
+    child: [u32; 4],
+    count: [u32; 4],
+    len: u32,
+}
+
+impl Node4 {
+    const EMPTY: Self = Self {
+        min_x: Vec4::ZERO,
+        min_y: Vec4::ZERO,
+        min_z: Vec4::ZERO,
+        max_x: Vec4::ZERO,
+        max_y: Vec4::ZERO,
+        max_z: Vec4::ZERO,
+        child: [0; 4],
+        count: [0; 4],
+        len: 0,
+    };
+}
+
+/// Per-ray constants of the 4-wide box test.
+struct Wide {
+    o: [Vec4; 3],
+    inv: [Vec4; 3],
+    t_min: Vec4,
+}
+
+impl Wide {
+    #[inline(always)]
+    fn new(pre: &Prepared) -> Self {
+        let (o, inv) = (pre.o, pre.inv);
+        Self {
+            o: [Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z)],
+            inv: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
+            t_min: Vec4::splat(pre.t_min),
+        }
+    }
+
+    /// Bit mask of the children whose box meets `[t_min, t_max]`, and their entry distances: the slab
+    /// test `t = (plane − o)·(1/d)` per axis, lane by lane. It is NaN-free (`1/d` is finite, see
+    /// [`Prepared::new`]), so plain SIMD min/max are exact; the far distance is enlarged by `1 + 2γ₃`.
+    #[inline(always)]
+    fn test(&self, n: &Node4, t_max: f32) -> (u32, [f32; 4]) {
+        let tx1 = (n.min_x - self.o[0]) * self.inv[0];
+        let tx2 = (n.max_x - self.o[0]) * self.inv[0];
+        let ty1 = (n.min_y - self.o[1]) * self.inv[1];
+        let ty2 = (n.max_y - self.o[1]) * self.inv[1];
+        let tz1 = (n.min_z - self.o[2]) * self.inv[2];
+        let tz2 = (n.max_z - self.o[2]) * self.inv[2];
+        let near = tx1.min(tx2).max(ty1.min(ty2)).max(tz1.min(tz2)).max(self.t_min);
+        let far = (tx1.max(tx2).min(ty1.max(ty2)).min(tz1.max(tz2)) * FAR_SCALE).min(Vec4::splat(t_max));
+        let mask = near.cmple(far).bitmask() & ((1u32 << n.len) - 1);
+        (mask, near.to_array())
+    }
+}
+
+/// Collapse the binary subtree at `i` into 4-wide nodes appended to `wide`; returns the index of the
+/// wide node made for `i`. Children are opened largest surface area first until there are four (or
+/// only leaves), the usual BVH2 → BVH4 collapse (Wald et al. 2008, "Getting rid of packets").
+fn collapse(nodes: &[Node], i: usize, wide: &mut Vec<Node4>) -> u32 {
+    let at = wide.len();
+    wide.push(Node4::EMPTY);
+    let mut buf = [0usize; 4];
+    let mut len = if nodes[i].count() > 0 {
+        buf[0] = i;
+        1
+    } else {
+        let c = nodes[i].first() as usize;
+        (buf[0], buf[1]) = (c, c + 1);
+        2
+    };
+    while len < 4 {
+        // The interior child with the largest area (ties: the first), opened into its two children.
+        let mut pick: Option<(usize, f32)> = None;
+        for (j, &k) in buf[..len].iter().enumerate() {
+            if nodes[k].count() == 0 {
+                let a = half_area(&nodes[k]);
+                if pick.is_none_or(|(_, best)| a > best) {
+                    pick = Some((j, a));
+                }
+            }
+        }
+        let Some((j, _)) = pick else { break };
+        let c = nodes[buf[j]].first() as usize;
+        buf.copy_within(j + 1..len, j + 2);
+        (buf[j], buf[j + 1]) = (c, c + 1);
+        len += 1;
+    }
+    let kids = &buf[..len];
+    let mut w = Node4::EMPTY;
+    w.len = kids.len() as u32;
+    let (mut lo, mut hi) = ([[0f32; 4]; 3], [[0f32; 4]; 3]);
+    for (lane, &k) in kids.iter().enumerate() {
+        let (mn, mx) = (nodes[k].min(), nodes[k].max());
+        for a in 0..3 {
+            lo[a][lane] = mn[a];
+            hi[a][lane] = mx[a];
+        }
+        if nodes[k].count() > 0 {
+            w.child[lane] = nodes[k].first();
+            w.count[lane] = nodes[k].count();
+        }
+    }
+    (w.min_x, w.min_y, w.min_z) = (Vec4::from(lo[0]), Vec4::from(lo[1]), Vec4::from(lo[2]));
+    (w.max_x, w.max_y, w.max_z) = (Vec4::from(hi[0]), Vec4::from(hi[1]), Vec4::from(hi[2]));
+    for (lane, &k) in kids.iter().enumerate() {
+        if nodes[k].count() == 0 {
+            w.child[lane] = collapse(nodes, k, wide);
+        }
+    }
+    wide[at] = w;
+    at as u32
+}
+
+/// Shape statistics of the binary tree.
+fn binary_stats(nodes: &[Node]) -> BvhStats {
+    let mut st = BvhStats { nodes: nodes.len(), ..BvhStats::default() };
+    let root_area = half_area(&nodes[0]).max(f32::MIN_POSITIVE) as f64;
+    let mut stack = vec![(0usize, 1usize)];
+    while let Some((i, depth)) = stack.pop() {
+        let nd = &nodes[i];
+        let rel = half_area(nd) as f64 / root_area;
+        st.max_depth = st.max_depth.max(depth);
+        if nd.count() > 0 {
+            st.leaves += 1;
+            st.max_leaf = st.max_leaf.max(nd.count() as usize);
+            st.sah_cost += rel * nd.count() as f64;
+        } else {
+            st.sah_cost += rel * f64::from(TRAVERSAL_COST);
+            stack.push((nd.first() as usize, depth + 1));
+            stack.push((nd.first() as usize + 1, depth + 1));
+        }
+    }
+    st
 }
 
 fn bounds_of(refs: &[PrimRef]) -> (Aabb, Aabb) {
@@ -736,9 +893,13 @@ fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usiz
         Vec3A::splat(BINS as f32 * (1.0 - 1e-6)) / extent,
         Vec3A::ZERO,
     );
+    // Small nodes get fewer bins: the sweep below costs O(bins) per node whatever its size.
+    let nb = if n <= 32 { 8 } else { BINS };
+    let scale = scale * (nb as f32 / BINS as f32);
     let bin_of = |c: Vec3A| -> [usize; 3] {
-        let b = ((c - cbounds.min) * scale).min(Vec3A::splat((BINS - 1) as f32));
-        [b.x as usize, b.y as usize, b.z as usize]
+        let b = ((c - cbounds.min) * scale).min(Vec3A::splat((nb - 1) as f32)).to_array();
+        // Through i32: a single truncating conversion (f32 → usize is a long sequence on x86-64).
+        [b[0] as i32 as usize, b[1] as i32 as usize, b[2] as i32 as usize]
     };
     let mut boxes = [[Aabb::EMPTY; BINS]; 3];
     let mut counts = [[0u32; BINS]; 3];
@@ -758,14 +919,14 @@ fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usiz
         let mut right_cost = [0f32; BINS];
         let mut acc = Aabb::EMPTY;
         let mut cnt = 0u32;
-        for i in (1..BINS).rev() {
+        for i in (1..nb).rev() {
             acc = acc.merge(boxes[a][i]);
             cnt += counts[a][i];
             right_cost[i] = if cnt > 0 { acc.half_area() * cnt as f32 } else { f32::INFINITY };
         }
         let mut acc = Aabb::EMPTY;
         let mut cnt = 0u32;
-        for i in 0..BINS - 1 {
+        for i in 0..nb - 1 {
             acc = acc.merge(boxes[a][i]);
             cnt += counts[a][i];
             if cnt == 0 || cnt as usize == n {
