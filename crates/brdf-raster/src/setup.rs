@@ -241,6 +241,21 @@ pub fn setup_triangle(
         edge_dy[k] = dy as i32;
     }
 
+    // Small triangles (most of a dense mesh) often have sample centres in their bounding box but cover
+    // none of them: find out now, so they cost no memory and no time in binning and rasterization.
+    let (cols, rows) = (max_x - min_x + 1, max_y - min_y + 1);
+    if cols * rows <= 4 {
+        let covers = |c: i64, r: i64| {
+            (0..3).all(|k| {
+                e[k] - c * i64::from(edge_dy[k]) * SUBPIXEL_ONE + r * i64::from(edge_dx[k]) * SUBPIXEL_ONE
+                    >= 0
+            })
+        };
+        if !(0..rows).any(|r| (0..cols).any(|c| covers(c, r))) {
+            return None;
+        }
+    }
+
     // Depth plane in f64, positions in pixels relative to the anchor sample centre.
     let s = SUBPIXEL_ONE as f64;
     let pxs = vs.map(|v| (v.x - px) as f64 / s);
