@@ -108,9 +108,9 @@ pub enum Light {
         direction: Vec3,
         /// Radiant intensity on the axis, per channel.
         intensity: Vec3,
-        /// Half-angle of the fully lit cone θ_i [rad], `0 ≤ θ_i ≤ θ_o`.
+        /// Half-angle of the fully lit cone θ_i (radians), `0 ≤ θ_i ≤ θ_o`.
         inner_angle: f32,
-        /// Half-angle beyond which nothing is lit θ_o [rad], `θ_o < π`.
+        /// Half-angle beyond which nothing is lit θ_o (radians), `θ_o < π`.
         outer_angle: f32,
         /// Distance falloff.
         attenuation: Attenuation,

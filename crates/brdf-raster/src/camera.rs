@@ -13,7 +13,7 @@ use crate::RasterError;
 /// The projection of a [`Camera`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Projection {
-    /// Perspective with a vertical field of view [rad] (`gluPerspective`).
+    /// Perspective with a vertical field of view in radians (`gluPerspective`).
     Perspective {
         /// Full vertical field of view, in (0, π) radians.
         fovy: f32,
