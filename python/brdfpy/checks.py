@@ -8,6 +8,7 @@ result is the same at any thread count.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TypedDict
 
 import numpy as np
@@ -15,9 +16,17 @@ from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
 from brdfpy._arrays import as_scalars
+from brdfpy.microfacet import Lobe, _lobe, _lobes
 from brdfpy.models import Model
 
-__all__ = ["CheckReport", "check", "directional_albedo", "positivity", "reciprocity_error"]
+__all__ = [
+    "CheckReport",
+    "check",
+    "d_normalization",
+    "directional_albedo",
+    "positivity",
+    "reciprocity_error",
+]
 
 
 class CheckReport(TypedDict):
@@ -93,6 +102,27 @@ def directional_albedo(
     """
     c = as_scalars("cos_theta_v", cos_theta_v).reshape(-1)
     return _brdfpy.directional_albedo(_model(model), c, n_theta, n_phi, float(min_panel))
+
+
+def d_normalization(
+    distribution: str | Sequence[Lobe],
+    alpha: float = 0.3,
+    *,
+    alpha_y: float | None = None,
+    n_theta: int = 8,
+    n_phi: int = 8,
+    min_panel: float = 1e-4,
+) -> float:
+    """Normalisation of a microfacet distribution, ``∫_{H²} D(h) (n·h) dω_h``, by quadrature.
+
+    1 for a normalised D: the microfacets' projected area equals the macro-surface's (Walter et al. 2007
+    eq. 4; notes (b1)). ``distribution`` is a name of :data:`brdfpy.microfacet.DISTRIBUTIONS` with ``alpha``
+    (and ``alpha_y``), or a list of lobes as for :func:`brdfpy.microfacet.mixture`. The quadrature is graded
+    toward the pole and the tangent axes; see :func:`directional_albedo` for ``n_theta``, ``n_phi`` and
+    ``min_panel``.
+    """
+    lobes = _lobe(distribution, alpha, alpha_y) if isinstance(distribution, str) else _lobes(distribution)
+    return float(_brdfpy.d_normalization(lobes, n_theta, n_phi, float(min_panel)))
 
 
 def check(model: Model) -> CheckReport:

@@ -63,15 +63,7 @@ pub fn directional_albedo<'py>(
     if let Some(i) = cs.iter().position(|c| !(*c >= 0.0 && *c <= 1.0)) {
         return Err(invalid(format!("cos_theta_v: values must lie in [0, 1], got {} at index {i}", cs[i])));
     }
-    let order = |name: &str, k: i64| {
-        usize::try_from(k).map_err(|_| invalid(format!("{name}: must be in [1, 64], got {k}")))
-    };
-    let q = Quadrature {
-        theta_order: order("theta_order", theta_order)?,
-        phi_order: order("phi_order", phi_order)?,
-        min_panel,
-    };
-    q.validate().map_err(to_py)?;
+    let q = quadrature(theta_order, phi_order, min_panel)?;
     let m = model.get().core();
     // Every albedo costs up to ~10^5 evaluations: always worth releasing the GIL.
     let albedo = run(py, usize::MAX, || props::directional_albedos(m, cs, &q))?.map_err(to_py)?;
@@ -82,6 +74,35 @@ pub fn directional_albedo<'py>(
         o.copy_from_slice(bytemuck::cast_slice(&albedo));
     }
     Ok(out)
+}
+
+/// Normalisation `∫ D(h) (n·h) dω_h` of a (mixture of) microfacet distribution(s) by quadrature; 1 for a
+/// normalised D (Walter et al. 2007 eq. 4).
+#[pyfunction]
+#[pyo3(signature = (lobes, theta_order=8, phi_order=8, min_panel=1e-4))]
+pub fn d_normalization(
+    py: Python<'_>,
+    lobes: Vec<crate::microfacet::Lobe>,
+    theta_order: i64,
+    phi_order: i64,
+    min_panel: f64,
+) -> PyResult<f64> {
+    let d = crate::microfacet::mixture(&lobes)?;
+    let q = quadrature(theta_order, phi_order, min_panel)?;
+    run(py, usize::MAX, || props::microfacet_normalization(|h| d.d(h), &q))?.map_err(to_py)
+}
+
+fn quadrature(theta_order: i64, phi_order: i64, min_panel: f64) -> PyResult<Quadrature> {
+    let order = |name: &str, k: i64| {
+        usize::try_from(k).map_err(|_| invalid(format!("{name}: must be in [1, 64], got {k}")))
+    };
+    let q = Quadrature {
+        theta_order: order("n_theta", theta_order)?,
+        phi_order: order("n_phi", phi_order)?,
+        min_panel,
+    };
+    q.validate().map_err(to_py)?;
+    Ok(q)
 }
 
 /// All checks with fixed settings (seed 0, 10 000 configurations, albedo at six view cosines), as a dict.

@@ -22,7 +22,7 @@ mod _brdfpy {
     use pyo3::prelude::*;
 
     #[pymodule_export]
-    use super::checks::{check, directional_albedo, positivity, reciprocity_error};
+    use super::checks::{check, d_normalization, directional_albedo, positivity, reciprocity_error};
     #[pymodule_export]
     use super::fresnel::{
         color_shift, conductor, dielectric, dielectric_sp, f0_from_ior, ior_from_f0, metal_f0, metal_names,

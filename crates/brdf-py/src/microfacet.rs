@@ -19,7 +19,7 @@ use crate::threads::{RowError, fill};
 /// One lobe as Python passes it: (weight, distribution name, alpha, alpha_y).
 pub type Lobe = (f32, String, f32, Option<f32>);
 
-fn mixture(lobes: &[Lobe]) -> PyResult<Mixture> {
+pub fn mixture(lobes: &[Lobe]) -> PyResult<Mixture> {
     if lobes.is_empty() {
         return Err(invalid("lobes: expected at least one (weight, name, alpha) lobe"));
     }
