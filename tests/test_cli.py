@@ -142,7 +142,7 @@ def test_the_eval_benchmark_runs_and_writes_json(tmp_path):
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    assert mod.main(["--quick", "--out", str(tmp_path)]) == 0
+    assert mod.main(["eval", "--quick", "--out", str(tmp_path)]) == 0
     data = json.loads((tmp_path / "eval.json").read_text())
     models = {r["model"] for r in data["results"]}
     assert {"lambert", "blinn_phong", "cook_torrance_ggx_smith_schlick"} <= models
