@@ -37,11 +37,12 @@ def _as_numeric(name: str, x: ArrayLike) -> NDArray[Any]:
 
 
 def _to_f32(a: NDArray[Any]) -> F32:
+    if a.dtype == np.float32 and a.flags.c_contiguous:
+        return a  # the common case: used as it is, no copy (and no cost for small batches)
     # Values beyond the float32 range become inf here and are reported by the compiled module as non-finite;
-    # silence NumPy's overflow warning so that the error, not a warning, tells the user.
+    # silence NumPy's overflow warning so that the error, not a warning, tells the user. np.asarray(order="C")
+    # keeps 0-d arrays 0-d (np.ascontiguousarray would make them 1-d).
     with np.errstate(over="ignore", invalid="ignore"):
-        # np.asarray(order="C") keeps 0-d arrays 0-d (np.ascontiguousarray would make them 1-d) and returns
-        # the input itself when it already is C-contiguous float32: no copy.
         return np.asarray(a, dtype=np.float32, order="C")
 
 
