@@ -6,6 +6,7 @@
 
 use std::time::Instant;
 
+use brdf_raster::render::render_into;
 use brdf_raster::scene::{canonical_camera, canonical_scene};
 use brdf_raster::{RenderOptions, render};
 
@@ -35,36 +36,48 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let options = RenderOptions { shading, ..RenderOptions::new(width, height) };
     println!("icosphere({level}): {} triangles, {width}×{height}", scene.face_count());
 
-    let mut last = None;
+    // Each configuration: one warm-up frame, then `frames` timed ones, (a) `render` allocating a new
+    // frame each time (what a Python call returns), (b) `render_into` redrawing one frame (as a GL
+    // application redraws its framebuffer).
+    let mut frame = render(&scene, &camera, &options)?;
     for &threads in &thread_counts {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
-        let times = pool.install(|| -> Result<Vec<f64>, brdf_raster::RasterError> {
-            // One warm-up frame, then `frames` timed ones.
-            render(&scene, &camera, &options)?;
-            let cpu0 = cpu_ms();
-            let times = (0..frames)
-                .map(|_| {
+        for reuse in [false, true] {
+            let times = pool.install(|| -> Result<Vec<f64>, brdf_raster::RasterError> {
+                render_into(&scene, &camera, &options, &mut frame)?;
+                let cpu0 = cpu_ms();
+                let mut times = Vec::with_capacity(frames);
+                for _ in 0..frames {
                     let t = Instant::now();
-                    let frame = render(&scene, &camera, &options)?;
-                    let dt = t.elapsed().as_secs_f64() * 1e3;
-                    last = Some(frame);
-                    Ok(dt)
-                })
-                .collect::<Result<Vec<f64>, brdf_raster::RasterError>>()?;
-            if let (Some(a), Some(b)) = (cpu0, cpu_ms()) {
-                println!("{threads} thread(s): {:.1} ms CPU per frame", (b - a) / frames as f64);
-            }
-            Ok(times)
-        })?;
-        let mut sorted = times.clone();
-        sorted.sort_by(f64::total_cmp);
-        println!(
-            "{threads} thread(s): median {:.1} ms (min {:.1}, max {:.1}) over {frames} frames",
-            sorted[sorted.len() / 2],
-            sorted[0],
-            sorted[sorted.len() - 1]
-        );
+                    if reuse {
+                        render_into(&scene, &camera, &options, &mut frame)?;
+                    } else {
+                        frame = render(&scene, &camera, &options)?;
+                    }
+                    times.push(t.elapsed().as_secs_f64() * 1e3);
+                }
+                if let (Some(a), Some(b)) = (cpu0, cpu_ms()) {
+                    times.push((b - a) / frames as f64);
+                }
+                Ok(times)
+            })?;
+            let cpu = if times.len() > frames {
+                format!(", {:.1} ms CPU/frame", times[frames])
+            } else {
+                String::new()
+            };
+            let mut sorted = times[..frames].to_vec();
+            sorted.sort_by(f64::total_cmp);
+            println!(
+                "{threads} thread(s), {}: median {:.1} ms (min {:.1}, max {:.1}) over {frames} frames{cpu}",
+                if reuse { "render_into" } else { "render     " },
+                sorted[sorted.len() / 2],
+                sorted[0],
+                sorted[sorted.len() - 1]
+            );
+        }
     }
+    let last = Some(frame);
     if let Some(frame) = last {
         let (cx, cy) = (width / 2, height / 2);
         println!("centre pixel {:?}, covered pixels {}", frame.rgb8_at(cx, cy), frame.covered_pixels());

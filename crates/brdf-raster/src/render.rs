@@ -219,36 +219,61 @@ pub fn render_with<O: Occlusion>(
     progress: Option<&(dyn Fn(f32) + Sync)>,
 ) -> Result<Frame, RasterError> {
     let prep = Prepared::new(scene, camera, options, occlusion)?;
-    let (w, h) = (options.width as usize, options.height as usize);
+    let n = options.width as usize * options.height as usize;
     let mut frame = Frame {
         width: options.width,
         height: options.height,
         // Zeroed allocations (pages are mapped lazily, on first write, by the band that owns them);
         // every element is overwritten by its band.
-        hdr: bytemuck::zeroed_vec(w * h),
-        depth: vec![0.0; w * h],
-        normal: bytemuck::zeroed_vec(w * h),
-        triangle_id: vec![0; w * h],
+        hdr: bytemuck::zeroed_vec(n),
+        depth: vec![0.0; n],
+        normal: bytemuck::zeroed_vec(n),
+        triangle_id: vec![0; n],
         tonemap: options.tonemap,
         exposure: options.exposure,
     };
-    let band_px = BAND_ROWS as usize * w;
-    let n_bands = h.div_ceil(BAND_ROWS as usize);
-    let done = AtomicUsize::new(0);
-    frame
-        .hdr
-        .par_chunks_mut(band_px)
-        .zip(frame.depth.par_chunks_mut(band_px))
-        .zip(frame.normal.par_chunks_mut(band_px))
-        .zip(frame.triangle_id.par_chunks_mut(band_px))
-        .enumerate()
-        .for_each_init(BandScratch::default, |scratch, (band, (((hdr, depth), normal), triangle_id))| {
-            prep.band(band, scratch, BandOut { hdr, depth, normal, triangle_id }, occlusion);
-            if let Some(cb) = progress {
-                cb((done.fetch_add(1, Ordering::Relaxed) + 1) as f32 / n_bands as f32);
-            }
-        });
+    prep.draw(&mut frame, occlusion, progress);
     Ok(frame)
+}
+
+/// [`render`] into an existing frame, reusing its buffers (resized when the image size changed), as an
+/// interactive application redraws its framebuffer: no per-frame allocation of the output.
+pub fn render_into(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    frame: &mut Frame,
+) -> Result<(), RasterError> {
+    if options.ao.is_some() || options.shadows {
+        options.validate()?;
+        let occlusion = SceneOcclusion::new(scene, options.ao, options.shadows)?;
+        return render_with_into(scene, camera, options, &occlusion, None, frame);
+    }
+    render_with_into(scene, camera, options, &NoOcclusion, None, frame)
+}
+
+/// [`render_with`] into an existing frame (see [`render_into`]).
+pub fn render_with_into<O: Occlusion>(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    occlusion: &O,
+    progress: Option<&(dyn Fn(f32) + Sync)>,
+    frame: &mut Frame,
+) -> Result<(), RasterError> {
+    let prep = Prepared::new(scene, camera, options, occlusion)?;
+    let n = options.width as usize * options.height as usize;
+    frame.width = options.width;
+    frame.height = options.height;
+    frame.tonemap = options.tonemap;
+    frame.exposure = options.exposure;
+    // Every element is overwritten by its band, so the old contents need no clearing.
+    frame.hdr.resize(n, Vec3::ZERO);
+    frame.depth.resize(n, 0.0);
+    frame.normal.resize(n, Vec3::ZERO);
+    frame.triangle_id.resize(n, 0);
+    prep.draw(frame, occlusion, progress);
+    Ok(())
 }
 
 /// How many triangles cover each sample (no depth test), for checking the fill rule and clipping: on a
@@ -434,6 +459,27 @@ impl<'a> Prepared<'a> {
             })
             .collect();
         Ok(prep)
+    }
+
+    /// Draw every band of the frame in parallel (each band owns its rows of every buffer).
+    fn draw<O: Occlusion>(&self, frame: &mut Frame, occlusion: &O, progress: Option<&(dyn Fn(f32) + Sync)>) {
+        let (w, h) = (frame.width as usize, frame.height as usize);
+        let band_px = BAND_ROWS as usize * w;
+        let n_bands = h.div_ceil(BAND_ROWS as usize);
+        let done = AtomicUsize::new(0);
+        frame
+            .hdr
+            .par_chunks_mut(band_px)
+            .zip(frame.depth.par_chunks_mut(band_px))
+            .zip(frame.normal.par_chunks_mut(band_px))
+            .zip(frame.triangle_id.par_chunks_mut(band_px))
+            .enumerate()
+            .for_each_init(BandScratch::default, |scratch, (band, (((hdr, depth), normal), triangle_id))| {
+                self.band(band, scratch, BandOut { hdr, depth, normal, triangle_id }, occlusion);
+                if let Some(cb) = progress {
+                    cb((done.fetch_add(1, Ordering::Relaxed) + 1) as f32 / n_bands as f32);
+                }
+            });
     }
 
     /// Reject, clip, cull and set up faces `start..end` of instance `k`.

@@ -398,6 +398,19 @@ fn output_is_bit_identical_for_1_2_and_4_threads() {
 }
 
 #[test]
+fn render_into_reuses_a_frame_and_gives_the_same_bits_as_render() {
+    let scene = canonical_scene(3).unwrap();
+    let camera = canonical_camera();
+    let mut frame = render(&scene, &camera, &RenderOptions::new(40, 30)).unwrap();
+    for (w, h) in [(64, 48), (64, 48), (17, 90)] {
+        let options = RenderOptions::new(w, h);
+        brdf_raster::render::render_into(&scene, &camera, &options, &mut frame).unwrap();
+        assert_same(&frame, &render(&scene, &camera, &options).unwrap(), &format!("{w}×{h}"));
+        assert_eq!((frame.width, frame.height, frame.hdr.len()), (w, h, (w * h) as usize));
+    }
+}
+
+#[test]
 fn supersampling_blends_the_silhouette_and_keeps_the_interior() {
     let scene = canonical_scene(5).unwrap();
     let camera = canonical_camera();
