@@ -33,8 +33,11 @@
 //! units of `|dir|`). Triangles are two-sided. The triangle test is the watertight one of Woop, Benthin
 //! & Wald 2013 ("Watertight ray/triangle intersection", JCGT 2(1)): a ray through a shared edge or
 //! vertex of a closed mesh hits at least one of the triangles that share it, never slips between.
-//! Box tests enlarge the far distance by `1 + 2γ₃` (pbrt-v4 §6.8.2) so a box never rejects a ray that
-//! its triangle test would accept.
+//! Box tests are conservative: the far distance of a box, and the `t_max` it is tested against,
+//! are enlarged by the factor `1 + 2⁻¹⁶` — far more than the few-ulp rounding of the slab test
+//! (pbrt-v4 §6.8.2 uses `1 + 2γ₃`) and of the triangle test's `t` — so a box never rejects a ray that
+//! its triangle test would accept, and a triangle hit at exactly the best `t` so far is still reached
+//! (which the tie rule below needs). It costs a negligible amount of pruning.
 //!
 //! **Ties.** The closest hit is the smallest `t`; among hits at exactly the same `t` (a ray through a
 //! shared edge), the one with the smallest original triangle id. So the answer does not depend on the
@@ -97,9 +100,9 @@ impl<T: Copy + Default> Stack<T> {
         Some(self.inline[self.len])
     }
 }
-/// `1 + 2γ₃` with `γₙ = nε/(1 − nε)`, ε = 2⁻²⁴ (pbrt-v4 §6.8.2): conservative slab far distance.
-const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
-const _: () = assert!(FAR_SCALE > 1.0 && FAR_SCALE < 1.0 + 1e-6);
+/// Conservative enlargement of box far distances and of the `t_max` they are tested against (see the
+/// module docs): `1 + 2⁻¹⁶`, against rounding errors of a few ulps (2⁻²³ each).
+const BOX_MARGIN: f32 = 1.0 + 1.0 / 65536.0;
 
 /// A ray segment `origin + t·dir`, `t ∈ [max(t_min, 0), t_max]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -543,7 +546,7 @@ impl Bvh {
         // Entries: (child, count, entry distance); count > 0 marks a leaf.
         let mut stack = Stack::new((0u32, 0u32, 0f32));
         while let Some((child, count, dist)) = stack.pop() {
-            if dist > best_t {
+            if dist > best_t * BOX_MARGIN {
                 continue;
             }
             if count > 0 {
@@ -565,16 +568,18 @@ impl Bvh {
             // Push the hit children farthest first, so the nearest is popped next.
             let mut order = [(0f32, 0usize); 4];
             let mut k = 0;
-            for (lane, &d) in near.iter().enumerate() {
-                if mask & (1 << lane) != 0 {
-                    let mut j = k;
-                    while j > 0 && order[j - 1].0 < d {
-                        order[j] = order[j - 1];
-                        j -= 1;
-                    }
-                    order[j] = (d, lane);
-                    k += 1;
+            let mut bits = mask;
+            while bits != 0 {
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let d = near[lane];
+                let mut j = k;
+                while j > 0 && order[j - 1].0 < d {
+                    order[j] = order[j - 1];
+                    j -= 1;
                 }
+                order[j] = (d, lane);
+                k += 1;
             }
             for &(d, lane) in &order[..k] {
                 stack.push((node.child[lane], node.count[lane], d));
@@ -599,10 +604,11 @@ impl Bvh {
             }
             let node = &self.wide[child as usize];
             let (mask, _) = w.test(node, t_max);
-            for lane in 0..4 {
-                if mask & (1 << lane) != 0 {
-                    stack.push((node.child[lane], node.count[lane]));
-                }
+            let mut bits = mask;
+            while bits != 0 {
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                stack.push((node.child[lane], node.count[lane]));
             }
         }
         false
@@ -716,7 +722,8 @@ impl Wide {
 
     /// Bit mask of the children whose box meets `[t_min, t_max]`, and their entry distances: the slab
     /// test `t = (plane − o)·(1/d)` per axis, lane by lane. It is NaN-free (`1/d` is finite, see
-    /// [`Prepared::new`]), so plain SIMD min/max are exact; the far distance is enlarged by `1 + 2γ₃`.
+    /// [`Prepared::new`]), so plain SIMD min/max are exact; the far distance and `t_max` are enlarged
+    /// by [`BOX_MARGIN`].
     #[inline(always)]
     fn test(&self, n: &Node4, t_max: f32) -> (u32, [f32; 4]) {
         let tx1 = (n.min_x - self.o[0]) * self.inv[0];
@@ -726,7 +733,7 @@ impl Wide {
         let tz1 = (n.min_z - self.o[2]) * self.inv[2];
         let tz2 = (n.max_z - self.o[2]) * self.inv[2];
         let near = tx1.min(tx2).max(ty1.min(ty2)).max(tz1.min(tz2)).max(self.t_min);
-        let far = (tx1.max(tx2).min(ty1.max(ty2)).min(tz1.max(tz2)) * FAR_SCALE).min(Vec4::splat(t_max));
+        let far = tx1.max(tx2).min(ty1.max(ty2)).min(tz1.max(tz2)).min(Vec4::splat(t_max)) * BOX_MARGIN;
         let mask = near.cmple(far).bitmask() & ((1u32 << n.len) - 1);
         (mask, near.to_array())
     }
@@ -896,10 +903,15 @@ fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usiz
     // Small nodes get fewer bins: the sweep below costs O(bins) per node whatever its size.
     let nb = if n <= 32 { 8 } else { BINS };
     let scale = scale * (nb as f32 / BINS as f32);
+    // Bin index = round-to-nearest of (x − ½), read from the low mantissa bits after adding 1.5·2²³
+    // (the sum stays in [2²³, 2²⁴), where floats are the integers): monotone in x and the same
+    // arithmetic in binning and partitioning, which is all the SAH needs, and far cheaper than three
+    // saturating float → int conversions.
+    const MAGIC: f32 = 12_582_912.0;
     let bin_of = |c: Vec3A| -> [usize; 3] {
-        let b = ((c - cbounds.min) * scale).min(Vec3A::splat((nb - 1) as f32)).to_array();
-        // Through i32: a single truncating conversion (f32 → usize is a long sequence on x86-64).
-        [b[0] as i32 as usize, b[1] as i32 as usize, b[2] as i32 as usize]
+        let x = ((c - cbounds.min) * scale).min(Vec3A::splat((nb - 1) as f32)) + Vec3A::splat(MAGIC - 0.5);
+        let b = x.to_array().map(|v| (v.to_bits() & 0xff) as usize);
+        [b[0], b[1], b[2]]
     };
     let mut boxes = [[Aabb::EMPTY; BINS]; 3];
     let mut counts = [[0u32; BINS]; 3];
