@@ -23,10 +23,14 @@
 //! ## Fill rule: top-left, in the y-down image
 //! A sample exactly on an edge belongs to the triangle when that edge is a **top** edge (horizontal,
 //! the triangle below it: `dy = 0, dx > 0`) or a **left** edge (the triangle to its right: `dy < 0`),
-//! the Direct3D 10 rule stated for a y-down raster, which GL implementations also use. It is applied as a
-//! −1 bias on the other edges (`E ≥ 0` becomes `E > 0`), as Giesen and llvmpipe do. Since the shared
-//! edge of two triangles of equal orientation has opposite `(dx, dy)` in each, exactly one of them
-//! owns the samples on it: every sample is covered exactly once (watertight).
+//! the Direct3D 10 rule, stated for our y-down image (row 0 at the top, as NumPy and PNG have it). It is
+//! applied as a −1 bias on the other edges (`E ≥ 0` becomes `E > 0`), as Giesen and llvmpipe do. Since
+//! the shared edge of two triangles of equal orientation has opposite `(dx, dy)` in each, exactly one of
+//! them owns the samples on it: every sample is covered exactly once (watertight). OpenGL leaves the
+//! tie rule to the implementation and counts window rows from the bottom; an implementation applying
+//! "top-left" in its y-up window coordinates resolves exact ties on horizontal edges the other way
+//! round. Only samples lying exactly on an edge can differ, which real meshes almost never produce
+//! (SCENE.md's comparison allows a few dozen silhouette pixels for all reasons together).
 //!
 //! ## Depth and attributes
 //! Window depth `z_window = (z_ndc + 1)/2` is affine in screen space: a plane
