@@ -524,3 +524,48 @@ fn bad_input_is_refused_with_a_clear_error() {
     let frame = render(&scene_of(degenerate, Mat4::IDENTITY), &camera, &RenderOptions::new(8, 8)).unwrap();
     assert_eq!(frame.covered_pixels(), 0);
 }
+
+#[test]
+fn random_triangle_soups_with_extreme_coordinates_render_without_panics_or_nans() {
+    // Debug builds check integer overflow, so this also guards the fixed-point range reasoning.
+    let mut rng = Rng(99);
+    for case in 0..60 {
+        let scale = 10f64.powf(rng.range(-3.0, 7.0));
+        let n = 1 + (rng.next() * 40.0) as usize;
+        let positions: Vec<Vec3> = (0..3 * n)
+            .map(|_| {
+                Vec3::new(
+                    rng.range(-1.0, 1.0) as f32,
+                    rng.range(-1.0, 1.0) as f32,
+                    rng.range(-1.0, 1.0) as f32,
+                ) * scale as f32
+            })
+            .collect();
+        let indices: Vec<[u32; 3]> = (0..n as u32).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect();
+        let normals = positions.iter().map(|p| if p.length() > 0.0 { *p } else { Vec3::Z }).collect();
+        let mesh = Mesh::new(positions, indices, Some(normals)).unwrap();
+        let mut scene = scene_of(mesh, Mat4::IDENTITY);
+        scene.add_light(
+            Light::point(Vec3::new(0.3, 0.2, 0.1), Vec3::splat(5.0), Attenuation::InverseSquare).unwrap(),
+        );
+        let eye =
+            Vec3::new(rng.range(-2.0, 2.0) as f32, rng.range(-2.0, 2.0) as f32, rng.range(-2.0, 2.0) as f32);
+        let camera = if case % 4 == 3 {
+            Camera::orthographic(eye, Vec3::ZERO, Vec3::Y, rng.range(0.01, 100.0) as f32, -10.0, 10.0)
+        } else {
+            Camera::perspective(eye, Vec3::ZERO, Vec3::Y, rng.range(0.1, 3.0) as f32, 1e-3, 1e6)
+        };
+        let Ok(camera) = camera else { continue };
+        let options = RenderOptions {
+            shading: ShadingMode::ALL[case % 4],
+            samples_per_pixel: [1, 4, 9][case % 3],
+            cull_back_faces: case % 2 == 0,
+            ..RenderOptions::new(37 + case as u32, 23 + 2 * case as u32)
+        };
+        let frame = render(&scene, &camera, &options).unwrap();
+        assert!(frame.hdr.iter().all(|c| c.is_finite()), "case {case}: non-finite colour");
+        assert!(frame.depth.iter().all(|d| (-1e-6..=1.0).contains(d)), "case {case}: depth out of [0, 1]");
+        let counts = coverage_counts(&scene, &camera, &options).unwrap();
+        assert!(counts.iter().all(|&c| c as usize <= n), "case {case}");
+    }
+}
