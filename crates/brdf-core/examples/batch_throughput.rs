@@ -8,6 +8,14 @@ use brdf_core::batch::{Directions, Quantity, evaluate};
 use brdf_core::params::Input;
 use glam::Vec3;
 
+/// User + system CPU time of this process [s] (Linux `/proc/self/stat`, clock ticks of 10 ms).
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
+    let ticks = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok()).unwrap_or(0.0);
+    (ticks(11) + ticks(12)) / 100.0
+}
+
 fn main() {
     let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
     let mut seed = 0x9e37_79b9_u32;
@@ -34,7 +42,7 @@ fn main() {
     ];
     let (d, len) = Directions::new(&l, &v, &nn, None).unwrap();
     let mut out = vec![Vec3::ZERO; len];
-    let only = std::env::args().nth(2);
+    let only = std::env::args().nth(2).filter(|o| !o.is_empty() && o != "all");
     let thread_counts: Vec<usize> = match std::env::args().nth(3).and_then(|s| s.parse().ok()) {
         Some(t) => vec![t],
         None => vec![1, 0],
@@ -43,13 +51,21 @@ fn main() {
         for &threads in &thread_counts {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut best = f64::INFINITY;
-            for _ in 0..5 {
+            let reps = 20;
+            let cpu0 = cpu_seconds();
+            for _ in 0..reps {
                 let t = Instant::now();
                 pool.install(|| evaluate(m, &d, Quantity::Brdf, &mut out));
                 best = best.min(t.elapsed().as_secs_f64());
             }
+            // CPU time is what a loaded machine does not inflate (other processes take wall time).
+            let cpu = (cpu_seconds() - cpu0) / reps as f64;
             let nt = pool.current_num_threads();
-            println!("{name:14} threads={nt}  {:8.1} M evals/s (best of 5, N={n})", n as f64 / best / 1e6);
+            println!(
+                "{name:14} threads={nt}  {:8.1} M evals/s wall (best of {reps}), {:6.2} ns CPU per eval (N={n})",
+                n as f64 / best / 1e6,
+                cpu / n as f64 * 1e9
+            );
         }
     }
 }

@@ -15,7 +15,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::models::{Bxdf, Model, ModelVisitor, eval_model_lanes, shade_model_lanes};
-use crate::simd::{F32x8, Lane, LaneGeometry, V3};
+use crate::simd::{F32x8, Lane, LaneGeometry, LaneKernel, V3};
 use crate::{BrdfError, Geometry};
 
 /// Below this many elements a batch runs on the calling thread (spawning costs more than it saves).
@@ -59,28 +59,21 @@ impl<'a, T: Copy> Broadcast<'a, T> {
 }
 
 impl Broadcast<'_, Vec3> {
-    /// Rows `start .. start + 8` as lanes; past `end` the row `end − 1` is repeated (padding).
+    /// Rows `start .. end` (at most `F::LANES`) as lanes; past `end` the row `end − 1` is repeated
+    /// (padding).
     #[inline(always)]
-    fn lanes(&self, start: usize, end: usize) -> V3<F32x8> {
+    fn lanes<F: Lane>(&self, start: usize, end: usize) -> V3<F> {
         if self.data.len() == 1 {
             return V3::splat(self.data[0]);
         }
         let rows: &[Vec3] = &self.data[start..end];
-        if let Ok(rows) = <&[Vec3; 8]>::try_from(rows) {
+        let last = rows.len() - 1;
+        if last + 1 == F::LANES {
             // A full group: plain loads the compiler turns into shuffles.
-            V3 {
-                x: F32x8::new(rows.map(|r| r.x)),
-                y: F32x8::new(rows.map(|r| r.y)),
-                z: F32x8::new(rows.map(|r| r.z)),
-            }
+            V3 { x: F::from_fn(|j| rows[j].x), y: F::from_fn(|j| rows[j].y), z: F::from_fn(|j| rows[j].z) }
         } else {
-            let last = rows.len() - 1;
             let at = |j: usize| rows[j.min(last)];
-            V3 {
-                x: F32x8::from_fn(|j| at(j).x),
-                y: F32x8::from_fn(|j| at(j).y),
-                z: F32x8::from_fn(|j| at(j).z),
-            }
+            V3 { x: F::from_fn(|j| at(j).x), y: F::from_fn(|j| at(j).y), z: F::from_fn(|j| at(j).z) }
         }
     }
 }
@@ -144,9 +137,10 @@ impl<'a> Directions<'a> {
         Geometry::new(self.l.get(i), self.v.get(i), self.n.get(i), self.t.map(|t| t.get(i)))
     }
 
-    /// The geometry of elements `start .. end` (at most 8, padded) and the lanes where it exists.
+    /// The geometry of elements `start .. end` (at most `F::LANES`, padded) and the lanes where it
+    /// exists.
     #[inline(always)]
-    fn lanes(&self, start: usize, end: usize) -> (LaneGeometry<F32x8>, <F32x8 as Lane>::Mask) {
+    fn lanes<F: Lane>(&self, start: usize, end: usize) -> (LaneGeometry<F>, F::Mask) {
         LaneGeometry::new(
             self.l.lanes(start, end),
             self.v.lanes(start, end),
@@ -169,53 +163,37 @@ fn run<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, out: &mut [Vec3]) {
     for_each_chunk(out, |offset, chunk| run_chunk(m, dirs, q, offset, chunk));
 }
 
-/// One chunk: the AVX2 build of [`run_lanes`] when the CPU has AVX2, else the baseline build.
+/// One chunk, eight samples at a time: in one AVX register each where the CPU has AVX2 (run-time
+/// detection, [`crate::simd`]), else in [`F32x8`] (two SSE registers). Same operations, same bits.
 #[inline]
 fn run_chunk<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, offset: usize, out: &mut [Vec3]) {
+    let k = ChunkKernel { m, dirs, q, offset, out };
     #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: `run_lanes_avx2` is an ordinary safe computation compiled with AVX2 enabled; its only
-        // requirement is that the CPU executing it supports AVX2 (and AVX, which AVX2 implies), which
-        // `is_x86_feature_detected!` has just confirmed at run time.
-        #[allow(unsafe_code)]
-        unsafe {
-            run_lanes_avx2(m, dirs, q, offset, out)
-        };
-        return;
-    }
-    run_lanes(m, dirs, q, offset, out);
+    let Some(k) = crate::simd::dispatch_avx2(k) else { return };
+    k.run::<F32x8>();
 }
 
-/// [`run_lanes`] compiled for AVX2: eight-lane `f32` arithmetic in single 256-bit instructions.
-/// Only the instruction selection differs from the baseline build; FMA is not enabled, so every result
-/// is rounded exactly as there.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(unsafe_code)] // `#[target_feature]` functions are `unsafe fn` before Rust 1.86 (our MSRV is 1.85).
-unsafe fn run_lanes_avx2<M: Bxdf>(
-    m: &M,
-    dirs: &Directions<'_>,
+/// The arguments of [`run_chunk`], as a computation generic over the lane type.
+struct ChunkKernel<'a, 'b, M> {
+    m: &'a M,
+    dirs: &'a Directions<'b>,
     q: Quantity,
     offset: usize,
-    out: &mut [Vec3],
-) {
-    run_lanes(m, dirs, q, offset, out);
+    out: &'a mut [Vec3],
 }
 
-/// Evaluate `out[k]` for element `offset + k`, eight samples at a time.
-#[inline(always)]
-fn run_lanes<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, offset: usize, out: &mut [Vec3]) {
-    for (k, group) in out.chunks_mut(F32x8::LANES).enumerate() {
-        let start = offset + k * F32x8::LANES;
-        let (g, valid) = dirs.lanes(start, start + group.len());
-        let value = match q {
-            Quantity::Brdf => eval_model_lanes(m, &g, valid),
-            Quantity::Shade => shade_model_lanes(m, &g, valid),
-        };
-        if let Ok(group) = <&mut [Vec3; 8]>::try_from(&mut *group) {
-            // A full group: one transposition back to rows, stored whole.
-            *group = std::array::from_fn(|j| value.lane(j));
-        } else {
+impl<M: Bxdf> LaneKernel for ChunkKernel<'_, '_, M> {
+    /// Evaluate `out[k]` for element `offset + k`, `F::LANES` samples at a time.
+    #[inline(always)]
+    fn run<F: Lane>(self) {
+        let Self { m, dirs, q, offset, out } = self;
+        for (k, group) in out.chunks_mut(F::LANES).enumerate() {
+            let start = offset + k * F::LANES;
+            let (g, valid) = dirs.lanes::<F>(start, start + group.len());
+            let value = match q {
+                Quantity::Brdf => eval_model_lanes(m, &g, valid),
+                Quantity::Shade => shade_model_lanes(m, &g, valid),
+            };
             for (j, o) in group.iter_mut().enumerate() {
                 *o = value.lane(j);
             }
@@ -327,6 +305,22 @@ mod tests {
                 for tangent in [None, Some(&t[..])] {
                     let out = evaluate_vec(m, &l, &v, &n_one, tangent, q).unwrap();
                     let (d, _) = Directions::new(&l, &v, &n_one, tangent).unwrap();
+                    // The portable lane type gives the same bits (the batch above took the AVX2 lanes on
+                    // AVX2 CPUs).
+                    struct Portable<'a, 'b>(&'a Directions<'b>, Quantity, &'a mut [Vec3]);
+                    impl ModelVisitor for Portable<'_, '_> {
+                        type Output = ();
+                        fn visit<B: Bxdf>(self, m: &B) {
+                            let Portable(dirs, q, out) = self;
+                            ChunkKernel { m, dirs, q, offset: 0, out }.run::<F32x8>();
+                        }
+                    }
+                    let mut portable = vec![Vec3::ZERO; n];
+                    m.visit(Portable(&d, q, &mut portable));
+                    let bits = |x: &[Vec3]| {
+                        x.iter().flat_map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>()
+                    };
+                    assert!(bits(&portable) == bits(&out), "{} {q:?}: F32x8 lanes differ", m.spec().name);
                     for (i, o) in out.iter().enumerate() {
                         let want = match d.geometry(i) {
                             None => Vec3::ZERO,

@@ -386,12 +386,14 @@ impl Mixture {
     /// [`Mixture::d_cos`] on lanes.
     #[inline(always)]
     pub fn d_cos_lanes<F: Lane>(&self, cos_h: F) -> F {
-        let mut lobes = self.lobes().iter();
-        // The first lobe starts the sum (Σ of one lobe is just w·D, with no extra rounding).
-        let Some((w, d)) = lobes.next() else { return F::splat(0.0) };
-        lobes.fold(F::splat(*w) * d.d_cos_lanes(cos_h), |sum, (w, d)| {
-            sum + F::splat(*w) * d.d_cos_lanes(cos_h)
-        })
+        // The first lobe starts the sum (Σ of one lobe is just w·D, with no extra rounding). A plain
+        // loop, not an iterator fold, so that it always inlines into the batch kernel.
+        let lobes = self.lobes();
+        let mut sum = F::splat(lobes[0].0) * lobes[0].1.d_cos_lanes(cos_h);
+        for (w, d) in &lobes[1..] {
+            sum = sum + F::splat(*w) * d.d_cos_lanes(cos_h);
+        }
+        sum
     }
 
     /// `Σ wᵢ Λᵢ(w)`, local frame.

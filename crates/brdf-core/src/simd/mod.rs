@@ -1,32 +1,46 @@
-//! Lanes: one formula, evaluated on one sample (`f32`) or on eight at once ([`F32x8`]).
+//! Lanes: one formula, evaluated on one sample (`f32`) or on eight at once.
 //!
 //! The hot terms of the benchmarked models (GGX `D`, the GGX Smith visibility, Schlick's Fresnel, the
-//! Cook–Torrance and Blinn–Phong lobes) are written once, generic over [`Lane`], and the scalar API
-//! (`ggx::d`, `CookTorrance::specular`, `Bxdf::f`, …) is that same code instantiated with `F = f32`.
-//! The batch evaluator ([`crate::batch`]) instantiates it with `F = F32x8`, so eight samples go through
-//! each operation together (AVX when the CPU has it, two SSE halves otherwise).
+//! Cook–Torrance and Blinn–Phong lobes, normalisation) are written once, generic over [`Lane`], and
+//! the scalar API (`ggx::d`, `CookTorrance::specular`, `Bxdf::f`, …) is that same code instantiated
+//! with `F = f32`. The batch evaluator ([`crate::batch`]) instantiates it with eight lanes: one AVX
+//! register where the CPU has AVX2 (detected at run time; `avx2.rs`, the only `unsafe` code, with its
+//! soundness argument), else [`F32x8`] from the `wide` crate (two SSE registers on baseline x86-64).
 //!
-//! **Bit-identical to the scalar path.** `F32x8` does exactly the IEEE-754 operations the scalar code
-//! does, lane by lane and in the same order: `+ − × ÷` and `√` are correctly rounded, `min`/`max`/`abs`
-//! have `f32`'s semantics (NaN ignored by `min`/`max`), comparisons and [`Lane::select`] are exact, and
-//! Rust never contracts `a·b + c` into a fused multiply-add on its own (no fast-math), whatever
-//! instruction set the code is compiled for. Terms without a wide form (`exp`, `powf`, `erf`, the
-//! exact Fresnel equations, …) run the scalar function on each lane ([`Lane::map`]). A batch therefore
-//! gives the same bits as [`crate::Model::eval`] on each sample, on any x86-64 CPU, with or without AVX,
-//! for any thread count.
+//! **Bit-identical to the scalar path.** Every lane type does exactly the IEEE-754 operations the
+//! scalar code does, lane by lane and in the same order: `+ − × ÷` and `√` are correctly rounded,
+//! `min`/`max`/`abs` have `f32`'s semantics (with the sign of a zero result pinned, see [`Lane::min`]),
+//! comparisons and [`Lane::select`] are exact, and Rust never contracts `a·b + c` into a fused
+//! multiply-add on its own (no fast-math; FMA is not enabled for the AVX2 build either). Terms
+//! without a wide form (`exp`, `powf`, `erf`, the exact Fresnel equations, …) run the scalar function
+//! on each lane ([`Lane::map`]). A batch therefore gives the same bits as [`crate::Model::eval`] on
+//! each sample, on any x86-64 CPU, with or without AVX, for any thread count (the batch tests check
+//! every model against the scalar path bit for bit).
 //!
 //! Branches become selects: the generic code computes both sides and keeps one per lane. Lanes that a
 //! select discards may hold anything (NaN, ∞); they never reach a result.
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
-use wide::{CmpEq, CmpGt, CmpLt, CmpNe};
-
 use glam::{Vec3, Vec3A};
+use wide::{CmpEq, CmpGt, CmpLt, CmpNe};
 
 use crate::Geometry;
 
-/// A number type the model formulas are written over: `f32` (one sample) or [`F32x8`] (eight).
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx2::dispatch as dispatch_avx2;
+
+/// A computation over lanes of any [`Lane`] type (the batch evaluator's chunk loop), so that the lane
+/// type can be chosen at run time.
+pub(crate) trait LaneKernel {
+    /// Run with lane type `F`.
+    fn run<F: Lane>(self);
+}
+
+/// A number type the model formulas are written over: `f32` (one sample) or eight lanes.
 ///
 /// Every operation has the semantics of the `f32` operation of the same name, applied lane by lane.
 pub trait Lane:
@@ -147,100 +161,114 @@ impl Lane for f32 {
 }
 
 /// Eight `f32` lanes ([`wide::f32x8`]: one AVX register where the crate is compiled for AVX, two SSE
-/// registers otherwise — the batch evaluator's AVX2 build then emits them VEX-encoded). Every
-/// operation used here is a correctly rounded IEEE operation or an exact bitwise one.
+/// registers otherwise).
 pub type F32x8 = wide::f32x8;
 
-/// Eight lane masks (all bits set for `true`, the layout of SSE/AVX compare results).
+/// Four `f32` lanes ([`wide::f32x4`]: one SSE register; VEX-encoded in the batch evaluator's AVX2 build).
+pub type F32x4 = wide::f32x4;
+
+/// Lane masks of [`F32x8`] (all bits set for `true`, the layout of SSE/AVX compare results).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct M32x8(pub F32x8);
 
-impl BitAnd for M32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitand(self, o: Self) -> Self {
-        Self(self.0 & o.0)
-    }
-}
-impl BitOr for M32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn bitor(self, o: Self) -> Self {
-        Self(self.0 | o.0)
-    }
-}
-impl Not for M32x8 {
-    type Output = Self;
-    #[inline(always)]
-    fn not(self) -> Self {
-        Self(!self.0)
-    }
-}
+/// Lane masks of [`F32x4`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct M32x4(pub F32x4);
 
-impl Lane for F32x8 {
-    type Mask = M32x8;
-    const LANES: usize = 8;
+/// `Lane` for a `wide` float vector: every operation used is a correctly rounded IEEE operation or
+/// an exact bitwise one.
+macro_rules! wide_lane {
+    ($f:ty, $m:ident, $n:literal) => {
+        impl BitAnd for $m {
+            type Output = Self;
+            #[inline(always)]
+            fn bitand(self, o: Self) -> Self {
+                Self(self.0 & o.0)
+            }
+        }
+        impl BitOr for $m {
+            type Output = Self;
+            #[inline(always)]
+            fn bitor(self, o: Self) -> Self {
+                Self(self.0 | o.0)
+            }
+        }
+        impl Not for $m {
+            type Output = Self;
+            #[inline(always)]
+            fn not(self) -> Self {
+                Self(!self.0)
+            }
+        }
 
-    #[inline(always)]
-    fn splat(x: f32) -> Self {
-        F32x8::splat(x)
-    }
-    #[inline(always)]
-    fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
-        F32x8::new(std::array::from_fn(f))
-    }
-    #[inline(always)]
-    fn lane(self, i: usize) -> f32 {
-        self.as_array_ref()[i]
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        F32x8::sqrt(self)
-    }
-    #[inline(always)]
-    fn min(self, o: Self) -> Self {
-        // f32::min: the smaller, or the other operand where one is NaN (see `impl Lane for f32`).
-        Self::select(M32x8(o.cmp_lt(self) | self.cmp_ne(self)), o, self)
-    }
-    #[inline(always)]
-    fn max(self, o: Self) -> Self {
-        Self::select(M32x8(o.cmp_gt(self) | self.cmp_ne(self)), o, self)
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        F32x8::abs(self)
-    }
-    #[inline(always)]
-    fn gt(self, o: Self) -> M32x8 {
-        M32x8(self.cmp_gt(o))
-    }
-    #[inline(always)]
-    fn lt(self, o: Self) -> M32x8 {
-        M32x8(self.cmp_lt(o))
-    }
-    #[inline(always)]
-    fn eq(self, o: Self) -> M32x8 {
-        M32x8(self.cmp_eq(o))
-    }
-    #[inline(always)]
-    fn is_finite(self) -> M32x8 {
-        // `x · 0 = 0` exactly when x is finite (∞ · 0 and NaN · 0 are NaN).
-        M32x8((self * F32x8::ZERO).cmp_eq(F32x8::ZERO))
-    }
-    #[inline(always)]
-    fn mask_splat(b: bool) -> M32x8 {
-        M32x8(F32x8::splat(f32::from_bits(if b { u32::MAX } else { 0 })))
-    }
-    #[inline(always)]
-    fn mask_lane(m: M32x8, i: usize) -> bool {
-        m.0.as_array_ref()[i].to_bits() != 0
-    }
-    #[inline(always)]
-    fn select(m: M32x8, a: Self, b: Self) -> Self {
-        // A blend on whole-lane masks: exact for every value, NaN payloads included.
-        m.0.blend(a, b)
-    }
+        impl Lane for $f {
+            type Mask = $m;
+            const LANES: usize = $n;
+
+            #[inline(always)]
+            fn splat(x: f32) -> Self {
+                <$f>::splat(x)
+            }
+            #[inline(always)]
+            fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+                <$f>::new(std::array::from_fn(f))
+            }
+            #[inline(always)]
+            fn lane(self, i: usize) -> f32 {
+                self.as_array_ref()[i]
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$f>::sqrt(self)
+            }
+            #[inline(always)]
+            fn min(self, o: Self) -> Self {
+                // f32::min: the smaller, or the other operand where one is NaN (see `impl Lane for f32`).
+                Self::select($m(o.cmp_lt(self) | self.cmp_ne(self)), o, self)
+            }
+            #[inline(always)]
+            fn max(self, o: Self) -> Self {
+                Self::select($m(o.cmp_gt(self) | self.cmp_ne(self)), o, self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$f>::abs(self)
+            }
+            #[inline(always)]
+            fn gt(self, o: Self) -> $m {
+                $m(self.cmp_gt(o))
+            }
+            #[inline(always)]
+            fn lt(self, o: Self) -> $m {
+                $m(self.cmp_lt(o))
+            }
+            #[inline(always)]
+            fn eq(self, o: Self) -> $m {
+                $m(self.cmp_eq(o))
+            }
+            #[inline(always)]
+            fn is_finite(self) -> $m {
+                // `x · 0 = 0` exactly when x is finite (∞ · 0 and NaN · 0 are NaN).
+                $m((self * <$f>::ZERO).cmp_eq(<$f>::ZERO))
+            }
+            #[inline(always)]
+            fn mask_splat(b: bool) -> $m {
+                $m(<$f>::splat(f32::from_bits(if b { u32::MAX } else { 0 })))
+            }
+            #[inline(always)]
+            fn mask_lane(m: $m, i: usize) -> bool {
+                m.0.as_array_ref()[i].to_bits() != 0
+            }
+            #[inline(always)]
+            fn select(m: $m, a: Self, b: Self) -> Self {
+                // A blend on whole-lane masks: exact for every value, NaN payloads included.
+                m.0.blend(a, b)
+            }
+        }
+    };
 }
+wide_lane!(F32x8, M32x8, 8);
+wide_lane!(F32x4, M32x4, 4);
 
 /// A 3-vector (an RGB colour or a direction) whose components are lanes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -302,7 +330,7 @@ impl<F: Lane> V3<F> {
         let len2 = self.dot(self);
         let ok = len2.gt(F::splat(0.0)) & len2.is_finite();
         let zero = Self { x: F::splat(0.0), y: F::splat(0.0), z: F::splat(0.0) };
-        (Self::select(ok, self / len2.sqrt(), zero), ok)
+        (Self::select(ok, self.scale(F::splat(1.0) / len2.sqrt()), zero), ok)
     }
 }
 
