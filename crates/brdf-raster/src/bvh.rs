@@ -109,7 +109,9 @@ const BOX_MARGIN: f32 = 1.0 + 1.0 / 65536.0;
 pub struct Ray {
     /// Start point (world space).
     pub origin: Vec3,
-    /// Direction; need not be unit (then `t` is in units of its length). Must not be zero.
+    /// Direction; need not be unit (then `t` is in units of its length). A zero or non-finite
+    /// direction (or origin) hits nothing; components below ~1e-38 in magnitude are treated as 0 by the
+    /// box test.
     pub dir: Vec3,
     /// Smallest accepted `t` (negative values act as 0).
     pub t_min: f32,
