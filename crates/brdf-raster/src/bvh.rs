@@ -43,7 +43,7 @@
 //! shared edge), the one with the smallest original triangle id. So the answer does not depend on the
 //! traversal order and equals a brute-force loop using [`intersect_triangle`] with the same rule.
 
-use glam::{Mat4, Vec3, Vec3A, Vec4};
+use glam::{Mat4, Vec3, Vec3A, Vec3Swizzles, Vec4};
 use rayon::prelude::*;
 
 use crate::{Mesh, RasterError, mesh::MAX_ELEMENTS};
@@ -149,10 +149,15 @@ pub struct Hit {
 struct Prepared {
     o: Vec3A,
     inv: Vec3A,
-    /// Axis permutation: `kz` is the largest |dir| component; `kx`, `ky` keep the winding.
-    k: [usize; 3],
-    /// Shear constants `Sx = d_kx/d_kz`, `Sy = d_ky/d_kz`, `Sz = 1/d_kz`.
-    s: [f32; 3],
+    /// `kz`, the axis of the largest |dir| component; `(kx, ky, kz)` is the cyclic rotation of
+    /// `(x, y, z)` ending in it. (The paper also swaps `kx`, `ky` when `d_kz < 0` to keep the winding;
+    /// for a two-sided test that only negates all three edge functions and the determinant exactly,
+    /// which changes no result.)
+    kz: u8,
+    /// Shear constants `(Sx, Sy, 0)` with `Sx = d_kx/d_kz`, `Sy = d_ky/d_kz`.
+    shear: Vec3A,
+    /// `Sz = 1/d_kz`.
+    sz: f32,
     t_min: f32,
 }
 
@@ -174,29 +179,35 @@ impl Prepared {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
         let da = d.to_array();
-        if da[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
+        Self {
+            o: Vec3A::from(ray.origin),
+            inv,
+            kz: kz as u8,
+            shear: Vec3A::new(da[kx] / da[kz], da[ky] / da[kz], 0.0),
+            sz: 1.0 / da[kz],
+            t_min: ray.t_min.max(0.0),
         }
-        let s = [da[kx] / da[kz], da[ky] / da[kz], 1.0 / da[kz]];
-        Self { o: Vec3A::from(ray.origin), inv, k: [kx, ky, kz], s, t_min: ray.t_min.max(0.0) }
     }
 
     /// The watertight test (Woop, Benthin & Wald 2013) for `t ∈ [t_min, t_max]`:
     /// returns `(t, u, v)` with `u`, `v` the weights of `p1`, `p2`.
     #[inline(always)]
     fn triangle(&self, tri: &[Vec3; 3], t_max: f32) -> Option<(f32, f32, f32)> {
-        let [kx, ky, kz] = self.k;
-        let [sx, sy, sz] = self.s;
-        let a = (Vec3A::from(tri[0]) - self.o).to_array();
-        let b = (Vec3A::from(tri[1]) - self.o).to_array();
-        let c = (Vec3A::from(tri[2]) - self.o).to_array();
-        // Shear and scale the vertices into the ray's frame (ray along +z through the origin).
-        let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
-        let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
-        let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
+        // Translate to the ray origin, rotate the axes to (kx, ky, kz) and shear (x, y) so the ray runs
+        // along +z through the origin: `(p_kx − Sx·p_kz, p_ky − Sy·p_kz, p_kz)`, lane-wise in SIMD.
+        let frame = |p: Vec3| {
+            let a = Vec3A::from(p) - self.o;
+            let a = match self.kz {
+                0 => a.yzx(),
+                1 => a.zxy(),
+                _ => a,
+            };
+            a - self.shear * a.z
+        };
+        let (a, b, c) = (frame(tri[0]), frame(tri[1]), frame(tri[2]));
+        let (ax, ay, bx, by, cx, cy) = (a.x, a.y, b.x, b.y, c.x, c.y);
         // Scaled barycentrics = 2D edge functions.
         let mut u = cx * by - cy * bx;
         let mut v = ax * cy - ay * cx;
@@ -215,7 +226,7 @@ impl Prepared {
         if det == 0.0 {
             return None;
         }
-        let (az, bz, cz) = (sz * a[kz], sz * b[kz], sz * c[kz]);
+        let (az, bz, cz) = (self.sz * a.z, self.sz * b.z, self.sz * c.z);
         let t_scaled = u * az + v * bz + w * cz;
         let inv_det = 1.0 / det;
         let t = t_scaled * inv_det;
