@@ -135,3 +135,36 @@ fn renders_with_obscurance_and_shadows_do_not_depend_on_the_thread_count() {
     };
     assert_eq!(run(1), run(3));
 }
+
+#[test]
+fn a_real_mesh_renders_with_obscurance_and_shadows_darker_only_where_occluded() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/assets/meshes/garland_cow.ply");
+    if !path.exists() {
+        eprintln!("skipped: {} is absent", path.display());
+        return;
+    }
+    let cow = Arc::new(brdf_raster::io::load_mesh(&path).unwrap());
+    let mut s = Scene::new();
+    let m = Material::new(lambert(0.7)).with_ambient(Vec3::splat(0.3));
+    // The cow is about 1 unit long; stand it on a floor at its lowest point.
+    let floor_y = cow.positions.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+    s.add(cow, m.clone(), Mat4::IDENTITY);
+    s.add(Arc::new(plane(4.0, 8).unwrap()), m, Mat4::from_translation(Vec3::new(0.0, floor_y, 0.0)));
+    s.lights = vec![Light::directional(Vec3::new(-0.3, -1.0, -0.4), Vec3::ONE).unwrap()];
+    let cam = Camera::perspective(Vec3::new(1.2, 0.8, 1.6), Vec3::ZERO, Vec3::Y, 0.8, 0.1, 20.0).unwrap();
+    let ao = AoOptions { d_max: 0.3, samples: 16, ..AoOptions::default() };
+    let base = RenderOptions { ..RenderOptions::new(64, 48) };
+    let plain = render(&s, &cam, &base).unwrap();
+    let shaded = render(&s, &cam, &RenderOptions { ao: Some(ao), shadows: true, ..base }).unwrap();
+    let (mut darker, mut covered) = (0, 0);
+    for (a, b) in plain.hdr.iter().zip(&shaded.hdr) {
+        assert!(b.is_finite() && b.min_element() >= 0.0);
+        // Obscurance and shadows only ever remove light.
+        assert!(b.max_element() <= a.max_element() + 1e-5, "{b} brighter than {a}");
+        covered += usize::from(a.max_element() > 0.0);
+        darker += usize::from(b.max_element() < a.max_element() - 1e-3);
+    }
+    assert!(covered > 1000, "the scene fills the frame: {covered}");
+    assert!(darker > 50 && darker < covered, "{darker} of {covered} covered pixels darker");
+}
