@@ -23,6 +23,7 @@ from brdfpy.image import Image
 from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
 from brdfpy.mesh import BUILTIN_MESHES, Mesh, builtin_mesh, cube, icosphere, load_mesh, open_box, plane, torus
 from brdfpy.models import Model, ModelInfo, ParamInfo, model, model_info, models
+from brdfpy.raycast import Hits, RayCaster
 from brdfpy.scene import Instance, Scene
 
 __all__ = [
@@ -30,6 +31,7 @@ __all__ = [
     "BrdfError",
     "Camera",
     "DirectionalLight",
+    "Hits",
     "Image",
     "Instance",
     "Light",
@@ -38,6 +40,7 @@ __all__ = [
     "ModelInfo",
     "ParamInfo",
     "PointLight",
+    "RayCaster",
     "Scene",
     "SpotLight",
     "__version__",

@@ -112,9 +112,11 @@ class Mesh:
     array([0., 0., 1.], dtype=float32)
     """
 
-    __slots__ = ("_m",)
+    __slots__ = ("_m", "_w")
 
     _m: _brdfpy.RasterMesh
+    # Stored per-vertex obscurance (read-only float32 (V,)) or None; see :attr:`obscurance`.
+    _w: NDArray[np.float32] | None
 
     def __init__(
         self,
@@ -139,11 +141,13 @@ class Mesh:
         if c is not None and len(c) != len(v):
             raise ValueError(f"colors: {len(c)} rows for {len(v)} vertices")
         self._m = _brdfpy.RasterMesh(v, f, n, c)
+        self._w = None
 
     @classmethod
     def _wrap(cls, raw: _brdfpy.RasterMesh) -> Mesh:
         m = cls.__new__(cls)
         m._m = raw
+        m._w = None
         return m
 
     @classmethod
@@ -284,12 +288,14 @@ class Mesh:
         if not isinstance(weighting, str):
             raise TypeError(f"weighting: expected one of {_WEIGHTINGS}, got {type(weighting).__name__}")
         self._m.compute_normals(weighting)
+        self._w = None  # the hemispheres have moved
         return self
 
     def flip_winding(self) -> Mesh:
         """Reverse every face's winding and negate the normals, in place (for meshes wound inward, which
         back-face culling would otherwise hide); returns ``self``."""
         self._m.flip_winding()
+        self._w = None  # the other side of the surface
         return self
 
     def transformed(self, matrix: ArrayLike) -> Mesh:
@@ -298,9 +304,120 @@ class Mesh:
         return Mesh._wrap(self._m.transformed(_mat4("matrix", matrix)))
 
     def copy(self) -> Mesh:
-        """An independent copy."""
+        """An independent copy (with the stored :attr:`obscurance`, if any)."""
         # Copy-on-write: the data are shared until either mesh is changed in place.
-        return Mesh._wrap(copy.copy(self._m))
+        m = Mesh._wrap(copy.copy(self._m))
+        m._w = self._w  # read-only, so sharing it is safe
+        return m
+
+    # -- ambient obscurance -----------------------------------------------------------------------------
+
+    def compute_obscurance(
+        self,
+        tau: float = 2.0,
+        d_max: float | None = None,
+        samples: int = 64,
+        seed: int = 0,
+        *,
+        store: bool = False,
+    ) -> NDArray[np.float32]:
+        """Per-vertex ambient obscurance ``w`` of the mesh against itself (seed 004, eqs. 12.71–12.74).
+
+        ::
+
+            w(p) = (1/π) ∫_Ω μ(d(p, ω)) cos θ dω,
+            μ(d) = (1 − e^(−τ d/d_max)) / (1 − e^(−τ))  for d < d_max,   μ(d) = 1 for d ≥ d_max,
+
+        where ``d(p, ω)`` is the distance from vertex ``p`` to the first surface seen in direction ``ω`` of
+        the hemisphere around its normal. ``μ`` is the seed's ``1 − e^(−τx)`` with ``x = d/d_max``, rescaled
+        so that it reaches 1 exactly at ``d_max``: ``w = 1`` for a vertex that sees nothing within
+        ``d_max``, smaller the closer and the more surrounding surfaces are, 0 only where surfaces touch.
+
+        It is estimated with ``samples`` cosine-weighted rays per vertex (a 2D Hammersley set, rotated per
+        vertex by a hash of ``(seed, vertex index)``), so ``w`` is the mean of ``μ`` over the rays. Rays
+        start a tiny offset along the normal to avoid re-hitting the vertex's own faces (see
+        ``brdf-raster``'s ``ao.rs``). Runs in parallel with the GIL released; the result is
+        bit-identical for any number of threads and the same for the same arguments.
+
+        Parameters
+        ----------
+        tau : float
+            ``τ > 0``, dimensionless (it applies to ``x = d/d_max``): how quickly an occluder's weight
+            rises with its distance. Small τ makes ``μ`` nearly linear in ``d/d_max``; large τ confines
+            the darkening to surfaces very close to the vertex. Default 2.
+        d_max : float, optional
+            ``d_max > 0``, in the mesh's own (object-space) units: surfaces farther than this do not
+            obscure. Default: a quarter of the diagonal of the mesh's bounding box.
+        samples : int
+            Rays per vertex, 1–65536 (the Monte-Carlo error falls as ``1/√samples`` or faster). Default 64.
+        seed : int
+            Seed of the per-vertex rotations of the sample pattern, 0 ≤ seed < 2^64.
+        store : bool
+            Also keep the result as :attr:`obscurance`, which ``Scene.render(ao={"stored": True})`` uses
+            instead of estimating ``w`` again.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``w`` per vertex, float32 of shape ``(V,)``, in [0, 1]. Vertices with a zero normal (not used
+            by any face) get 1.
+
+        Raises
+        ------
+        ValueError
+            ``tau`` or ``d_max`` not finite and > 0 (NaN included), ``samples`` out of range, ``seed``
+            out of range; the message names the argument.
+        TypeError
+            Arguments that are not numbers / integers.
+
+        Notes
+        -----
+        Only this mesh occludes (self-occlusion in object space). For occlusion by other objects use
+        :meth:`brdfpy.RayCaster.obscurance` on the whole scene, or ``Scene.render(ao=...)``, which
+        estimates ``w`` over the world-space scene.
+        """
+        if d_max is None:
+            lo, hi = self.bounds()
+            d_max = max(0.25 * float(np.linalg.norm(hi - lo)), 1e-6)
+        tau_, d_max_, samples_, seed_ = _obscurance_args(tau, d_max, samples, seed)
+        w = _brdfpy.mesh_obscurance(self._m, tau_, d_max_, samples_, seed_)
+        if store:
+            self._w = _readonly(w.copy())
+        return w
+
+    @property
+    def obscurance(self) -> NDArray[np.float32] | None:
+        """Stored per-vertex obscurance ``w``, float32 ``(V,)`` in [0, 1] (read-only), or ``None``.
+
+        Set by :meth:`compute_obscurance` with ``store=True``, or assigned directly (any ``(V,)`` array
+        of values in [0, 1], e.g. baked elsewhere); ``None`` clears it. ``Scene.render(ao={"stored":
+        True})`` interpolates it over the faces instead of estimating ``w``. It is cleared by
+        :meth:`compute_normals` and :meth:`flip_winding` (which change the hemispheres it was
+        computed over) and not carried over by :meth:`transformed`.
+        """
+        return self._w
+
+    @obscurance.setter
+    def obscurance(self, value: ArrayLike | None) -> None:
+        if value is None:
+            self._w = None
+            return
+        if isinstance(value, (str, bytes)):
+            raise TypeError(f"obscurance: expected an array of shape (V,), got {type(value).__name__}")
+        try:
+            a = np.asarray(value)
+        except (ValueError, TypeError) as e:
+            raise ValueError(f"obscurance: expected an array of numbers ({e})") from None
+        if a.dtype.kind not in "fiu":
+            raise TypeError(f"obscurance: expected real numbers, got dtype {a.dtype}")
+        if a.shape != (self.n_vertices,):
+            raise ValueError(f"obscurance: expected shape ({self.n_vertices},), got {a.shape}")
+        w = np.array(a, dtype=np.float32)
+        bad = ~((w >= 0) & (w <= 1))  # NaN fails both comparisons
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(f"obscurance: value {a[i]} at vertex {i} is not in [0, 1]")
+        self._w = _readonly(w)
 
 
 def _mat4(name: str, m: ArrayLike) -> list[float]:
@@ -332,6 +449,16 @@ def _check_pos(name: str, x: Any) -> float:
     if not (v > 0 and np.isfinite(v)):
         raise ValueError(f"{name}: must be finite and > 0, got {v}")
     return v
+
+
+def _obscurance_args(tau: Any, d_max: Any, samples: Any, seed: Any) -> tuple[float, float, int, int]:
+    """Checked ``(tau, d_max, samples, seed)`` for the obscurance estimators (errors name the argument)."""
+    return (
+        _check_pos("tau", tau),
+        _check_pos("d_max", d_max),
+        _check_int("samples", samples, 1, 65536),
+        _check_int("seed", seed, 0, 2**64 - 1),
+    )
 
 
 def load_mesh(path: PathLike) -> Mesh:

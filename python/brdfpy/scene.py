@@ -45,6 +45,7 @@ AO_DEFAULTS: dict[str, Any] = {
     "per_pixel": False,
     "seed": 0,
     "combined": False,
+    "stored": False,
 }
 
 ProgressArg = Union[None, bool, Callable[[float], Any]]
@@ -273,7 +274,10 @@ class Scene:
             distance), ``d_max`` (range beyond which nothing occludes; default a quarter of the scene's
             bounding-box diagonal), ``samples`` (64 rays per point), ``per_pixel`` (False: estimated at the
             vertices and interpolated; True: at every shaded point), ``seed`` (0) and ``combined`` (False;
-            True adds eq. 12.75's diffuse term ``k_d·I_d(p)·w(p)``).
+            True adds eq. 12.75's diffuse term ``k_d·I_d(p)·w(p)``) and ``stored`` (False; True: instances
+            whose mesh holds a stored :attr:`Mesh.obscurance` use it, interpolated over the faces, instead
+            of an estimate — self-occlusion baked in object space, not occlusion by the other objects;
+            the other instances are estimated as usual).
         shadows : bool
             Cast shadow rays toward every light (hard shadows; ``δ_j`` ∈ {0, 1}).
         progress : bool or callable, optional
@@ -339,8 +343,15 @@ class Scene:
             ao_args,
             bool(shadows),
             cb,
+            self._stored_obscurance(ao),
         )
         return Image(frame)
+
+    def _stored_obscurance(self, ao: bool | Mapping[str, Any] | None) -> list[Any] | None:
+        """Each instance's stored per-vertex obscurance (or None) when ``ao`` asks for stored values."""
+        if not isinstance(ao, Mapping) or not ao.get("stored", False):
+            return None
+        return [inst.mesh.obscurance for inst in self.instances]
 
     def _ao_args(
         self, ao: bool | Mapping[str, Any] | None

@@ -12,6 +12,7 @@ mod fresnel;
 mod microfacet;
 mod models;
 mod raster;
+mod raycast;
 mod threads;
 mod tonemap;
 mod vectors;
@@ -37,6 +38,8 @@ mod _brdfpy {
         RasterCamera, RasterFrame, RasterLight, RasterMesh, builtin_mesh, builtin_mesh_names, cube,
         icosphere, load_mesh, load_mesh_bytes, open_box, plane, raster_limits, render_scene, torus,
     };
+    #[pymodule_export]
+    use super::raycast::{RayCaster, mesh_obscurance};
     #[pymodule_export]
     use super::threads::{_reset_after_fork, get_num_threads, set_num_threads};
     #[pymodule_export]

@@ -17,13 +17,14 @@ use brdf_raster::render::{MAX_IMAGE_SIDE, NoOcclusion, RenderOptions, render_wit
 use brdf_raster::tiles::NO_TRI;
 use brdf_raster::{Camera, Frame, Material, Mesh, Projection, RasterError, Scene, ShadingMode};
 use glam::{Mat4, Vec3};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{invalid, to_py};
 use crate::models::Model;
+use crate::raycast::StoredObscurance;
 use crate::threads::pool;
 
 /// A raster error as a Python exception: a file that cannot be parsed, an invalid mesh or argument →
@@ -652,11 +653,13 @@ fn check_size(name: &'static str, v: i64) -> PyResult<u32> {
 /// emission[3])`; `lights`: list of `RasterLight`; returns a [`RasterFrame`]. The scene is built under
 /// the GIL, then rendered with the GIL released on the bindings' thread pool. `progress(fraction)` is
 /// called (with the GIL, from worker threads, one call at a time, increasing fractions) as bands of
-/// rows finish; an exception it raises is re-raised after the render.
+/// rows finish; an exception it raises is re-raised after the render. `vertex_obscurance`: one entry
+/// per instance, its mesh's stored per-vertex `w` (float32 `(V,)`) or `None`; with `ao` on, instances
+/// that have one use it instead of an estimate (see [`crate::raycast::StoredObscurance`]).
 #[pyfunction]
 #[pyo3(signature = (instances, lights, ambient_light, background, camera, width, height, shading="phong",
     cull_back_faces=true, samples=1, tonemap="clamp", exposure=0.0, white=None, ao=None, shadows=false,
-    progress=None))]
+    progress=None, vertex_obscurance=None))]
 pub fn render_scene(
     py: Python<'_>,
     instances: Vec<InstanceArgs<'_>>,
@@ -675,6 +678,7 @@ pub fn render_scene(
     ao: Option<AoArgs>,
     shadows: bool,
     progress: Option<Bound<'_, PyAny>>,
+    vertex_obscurance: Option<Vec<Option<PyReadonlyArray1<'_, f32>>>>,
 ) -> PyResult<RasterFrame> {
     let width = check_size("width", width)?;
     let height = check_size("height", height)?;
@@ -717,6 +721,12 @@ pub fn render_scene(
         scene.add_light(l.inner);
     }
     scene.validate().map_err(raster_err)?;
+    let stored: Option<Vec<Option<Vec<f32>>>> = match (&options.ao, vertex_obscurance) {
+        (Some(_), Some(v)) if v.iter().any(Option::is_some) => {
+            Some(v.iter().map(|w| w.as_ref().map(|w| w.as_array().iter().copied().collect())).collect())
+        }
+        _ => None,
+    };
     let cam = camera.inner;
     let pool = pool()?;
 
@@ -742,6 +752,10 @@ pub fn render_scene(
         pool.install(|| {
             if options.ao.is_none() && !options.shadows {
                 return render_with(&scene, &cam, &options, &NoOcclusion, Some(report));
+            }
+            if let (Some(ao), Some(stored)) = (options.ao, stored) {
+                let occlusion = StoredObscurance::new(&scene, ao, options.shadows, stored)?;
+                return render_with(&scene, &cam, &options, &occlusion, Some(report));
             }
             // One BVH over the world-space scene; per-vertex obscurance is estimated here, in parallel.
             let occlusion = SceneOcclusion::new(&scene, options.ao, options.shadows)?;
