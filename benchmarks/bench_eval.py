@@ -109,6 +109,7 @@ def bench(
     sizes: Sequence[int], threads: Sequence[int], repeats: int, oracle_n: int, seed: int = 0
 ) -> dict[str, Any]:
     results: list[dict[str, Any]] = []
+    load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
     lo, vo, no = directions(oracle_n, seed + 1)
     oracle: dict[str, float] = {}
     for label, name, params in MODELS:
@@ -161,6 +162,10 @@ def bench(
             "python": platform.python_version(),
             "numpy": np.__version__,
             "brdfpy": brdfpy.__version__,
+            # Other processes share the cores: the 1-minute load average before and after the timings
+            # says how much of the machine the figures had (the machine has cpu_count cores).
+            "loadavg_before": load_before,
+            "loadavg_after": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
         },
         "settings": {
             "sizes": list(sizes),
