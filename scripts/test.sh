@@ -10,6 +10,9 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 
 export PIP_ROOT_USER_ACTION=ignore PIP_DISABLE_PIP_VERSION_CHECK=1
+# The interpreter to install into and test with: $PYTHON, else python3, else python. Tools run as modules of
+# it (python -m ruff, ...), so nothing depends on where pip puts console scripts.
+PY="${PYTHON:-$(command -v python3 || command -v python)}"
 # Thorough property tests in CI (tests/conftest.py defines the profiles); quick ones locally.
 if [[ "${CI:-}" == "true" ]]; then export HYPOTHESIS_PROFILE="${HYPOTHESIS_PROFILE:-ci}"; fi
 
@@ -28,20 +31,20 @@ step() {
 }
 
 install() {
-    python -m pip install -q 'maturin>=1.9,<2' &&
+    "$PY" -m pip install -q 'maturin>=1.9,<2' &&
         # --no-build-isolation: build with the maturin just installed rather than fetching another copy.
-        python -m pip install -q --no-build-isolation -e '.[dev]'
+        "$PY" -m pip install -q --no-build-isolation -e '.[dev]'
 }
 
 step "install (maturin release build of the extension, test tools)" install
 step "cargo fmt --check" cargo fmt --all --check
 step "cargo clippy -D warnings" cargo clippy --workspace --all-targets -- -D warnings
 step "cargo test" cargo test
-step "ruff check" ruff check .
-step "ruff format --check" ruff format --check .
-step "mypy --strict" mypy
-step "stubtest" python -m mypy.stubtest brdfpy._brdfpy --allowlist python/stubtest-allowlist.txt
-step "pytest" python -m pytest
+step "ruff check" "$PY" -m ruff check .
+step "ruff format --check" "$PY" -m ruff format --check .
+step "mypy --strict" "$PY" -m mypy
+step "stubtest" "$PY" -m mypy.stubtest brdfpy._brdfpy --allowlist python/stubtest-allowlist.txt
+step "pytest" "$PY" -m pytest
 
 if ((${#failed[@]})); then
     printf '\nFAILED steps: %s\n' "$(IFS=,; echo "${failed[*]}")"
