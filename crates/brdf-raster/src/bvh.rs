@@ -303,19 +303,50 @@ impl Node {
     }
 }
 
-/// A primitive during the build: its box and its index in the input.
+/// A primitive during the build: its box, and its index in the input in the `w` lane of `lo` (32
+/// bytes, so the partitions move less memory).
 #[derive(Clone, Copy)]
 struct PrimRef {
-    min: Vec3A,
-    max: Vec3A,
-    idx: u32,
+    lo: Vec4,
+    hi: Vec4,
 }
 
 impl PrimRef {
     #[inline]
-    fn centroid2(&self) -> Vec3A {
-        self.min + self.max
+    fn new(min: Vec3A, max: Vec3A, idx: u32) -> Self {
+        Self { lo: min.extend(f32::from_bits(idx)), hi: max.extend(0.0) }
     }
+    #[inline(always)]
+    fn min(&self) -> Vec3A {
+        Vec3A::from_vec4(self.lo)
+    }
+    #[inline(always)]
+    fn max(&self) -> Vec3A {
+        Vec3A::from_vec4(self.hi)
+    }
+    #[inline(always)]
+    fn idx(&self) -> u32 {
+        self.lo.w.to_bits()
+    }
+    /// Twice the box centre (the SAH only compares centroids).
+    #[inline(always)]
+    fn centroid2(&self) -> Vec3A {
+        self.min() + self.max()
+    }
+}
+
+/// A node's box and the box of its primitives' (doubled) centroids.
+type Bounds = (Aabb, Aabb);
+
+/// What [`choose_split`] decided.
+enum Split {
+    Leaf,
+    /// Split after `mid` primitives, with the bounds of both halves (gathered while partitioning).
+    At {
+        mid: usize,
+        left: Bounds,
+        right: Bounds,
+    },
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -479,7 +510,7 @@ impl Bvh {
                 return None;
             }
             let (a, b, c) = (Vec3A::from(t[0]), Vec3A::from(t[1]), Vec3A::from(t[2]));
-            Some(PrimRef { min: a.min(b).min(c), max: a.max(b).max(c), idx: f as u32 })
+            Some(PrimRef::new(a.min(b).min(c), a.max(b).max(c), f as u32))
         }));
         if refs.is_empty() {
             // Nothing to hit: a root with no children.
@@ -494,7 +525,8 @@ impl Bvh {
         }
         let mut nodes: Vec<Node> = Vec::new();
         nodes.try_reserve_exact(2 * refs.len()).map_err(|_| too_big("node array"))?;
-        let sub = build_sub(&mut refs, 0, 0);
+        let root_bounds = bounds_of(&refs);
+        let sub = build_sub(&mut refs, 0, 0, root_bounds);
         place(sub, 0, &mut nodes, true);
         let stats = binary_stats(&nodes);
         let mut wide: Vec<Node4> = Vec::new();
@@ -504,8 +536,8 @@ impl Bvh {
         drop(nodes);
         let mut tris: Vec<[Vec3; 3]> = Vec::new();
         tris.try_reserve_exact(refs.len()).map_err(|_| too_big("triangle array"))?;
-        tris.par_extend(refs.par_iter().map(|r| tri(r.idx as usize)));
-        let ids = refs.iter().map(|r| r.idx).collect();
+        tris.par_extend(refs.par_iter().map(|r| tri(r.idx() as usize)));
+        let ids = refs.iter().map(|r| r.idx()).collect();
         let stats = BvhStats { nodes: wide.len(), ..stats };
         Ok(Self { wide, root, stats, tris, ids, input_triangles: n })
     }
@@ -832,11 +864,11 @@ fn binary_stats(nodes: &[Node]) -> BvhStats {
     st
 }
 
-fn bounds_of(refs: &[PrimRef]) -> (Aabb, Aabb) {
+fn bounds_of(refs: &[PrimRef]) -> Bounds {
     let mut b = Aabb::EMPTY;
     let mut cb = Aabb::EMPTY;
     for r in refs {
-        b.grow(r.min, r.max);
+        b.grow(r.min(), r.max());
         let c = r.centroid2();
         cb.grow(c, c);
     }
@@ -844,44 +876,48 @@ fn bounds_of(refs: &[PrimRef]) -> (Aabb, Aabb) {
 }
 
 /// Build the subtree over `refs` (global offset `base`), in parallel above the threshold.
-fn build_sub(refs: &mut [PrimRef], base: usize, depth: usize) -> Sub {
+/// `bb` are the bounds of `refs` (computed by the parent's partition pass).
+fn build_sub(refs: &mut [PrimRef], base: usize, depth: usize, bb: Bounds) -> Sub {
     if refs.len() <= PARALLEL_THRESHOLD {
         let mut nodes = Vec::with_capacity(2 * refs.len());
         nodes.push(Node::default());
-        build_seq(refs, base, depth, 0, &mut nodes);
+        build_seq(refs, base, depth, 0, &mut nodes, bb);
         return Sub::Flat(nodes);
     }
-    let (bounds, cbounds) = bounds_of(refs);
-    let mid = choose_split(refs, &bounds, &cbounds, depth).expect("large nodes are always split");
+    let Split::At { mid, left: lb, right: rb } = choose_split(refs, &bb, depth) else {
+        unreachable!("nodes above MAX_LEAF triangles are always split")
+    };
     let (l, r) = refs.split_at_mut(mid);
-    let (left, right) = rayon::join(|| build_sub(l, base, depth + 1), || build_sub(r, base + mid, depth + 1));
-    Sub::Split { bounds, left: Box::new(left), right: Box::new(right) }
+    let (left, right) =
+        rayon::join(|| build_sub(l, base, depth + 1, lb), || build_sub(r, base + mid, depth + 1, rb));
+    Sub::Split { bounds: bb.0, left: Box::new(left), right: Box::new(right) }
 }
 
 /// Sequential build into `nodes`, writing the subtree root at `at`.
-fn build_seq(refs: &mut [PrimRef], base: usize, depth: usize, at: usize, nodes: &mut Vec<Node>) {
-    let (bounds, cbounds) = bounds_of(refs);
-    match choose_split(refs, &bounds, &cbounds, depth) {
-        None => {
+fn build_seq(refs: &mut [PrimRef], base: usize, depth: usize, at: usize, nodes: &mut Vec<Node>, bb: Bounds) {
+    let bounds = bb.0;
+    match choose_split(refs, &bb, depth) {
+        Split::Leaf => {
             nodes[at] = Node::new(bounds.min, bounds.max, base as u32, refs.len() as u32);
         }
-        Some(mid) => {
+        Split::At { mid, left, right } => {
             let c = nodes.len();
             nodes.push(Node::default());
             nodes.push(Node::default());
             nodes[at] = Node::new(bounds.min, bounds.max, c as u32, 0);
             let (l, r) = refs.split_at_mut(mid);
-            build_seq(l, base, depth + 1, c, nodes);
-            build_seq(r, base + mid, depth + 1, c + 1, nodes);
+            build_seq(l, base, depth + 1, c, nodes, left);
+            build_seq(r, base + mid, depth + 1, c + 1, nodes, right);
         }
     }
 }
 
-/// Decide how to split `refs` and partition them in place; `None` means "make a leaf".
-fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usize) -> Option<usize> {
+/// Decide how to split `refs` (with bounds `bb`) and partition them in place.
+fn choose_split(refs: &mut [PrimRef], bb: &Bounds, depth: usize) -> Split {
+    let (bounds, cbounds) = (&bb.0, &bb.1);
     let n = refs.len();
     if n <= 1 {
-        return None;
+        return Split::Leaf;
     }
     let extent = cbounds.max - cbounds.min;
     let axis_of_max = if extent.x >= extent.y && extent.x >= extent.z {
@@ -893,18 +929,18 @@ fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usiz
     };
     // All centroids coincide, or the tree got too deep for SAH: object median along the widest axis.
     let median = |refs: &mut [PrimRef]| {
+        if n <= MAX_LEAF {
+            return Split::Leaf;
+        }
         let mid = n / 2;
         refs.select_nth_unstable_by(mid, |a, b| {
             let (ca, cb) = (a.centroid2()[axis_of_max], b.centroid2()[axis_of_max]);
-            ca.total_cmp(&cb).then(a.idx.cmp(&b.idx))
+            ca.total_cmp(&cb).then(a.idx().cmp(&b.idx()))
         });
-        mid
+        Split::At { mid, left: bounds_of(&refs[..mid]), right: bounds_of(&refs[mid..]) }
     };
-    if extent.max_element() <= 0.0 {
-        return if n <= MAX_LEAF { None } else { Some(median(refs)) };
-    }
-    if depth >= SAH_DEPTH_LIMIT {
-        return if n <= MAX_LEAF { None } else { Some(median(refs)) };
+    if extent.max_element() <= 0.0 || depth >= SAH_DEPTH_LIMIT {
+        return median(refs);
     }
 
     // Bin centroids along all three axes in one pass.
@@ -931,7 +967,7 @@ fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usiz
     for r in refs.iter() {
         let b = bin_of(r.centroid2());
         for a in 0..3 {
-            boxes[a][b[a]].grow(r.min, r.max);
+            boxes[a][b[a]].grow(r.min(), r.max());
             counts[a][b[a]] += 1;
         }
     }
@@ -967,24 +1003,32 @@ fn choose_split(refs: &mut [PrimRef], bounds: &Aabb, cbounds: &Aabb, depth: usiz
     let split_cost = TRAVERSAL_COST + if area > 0.0 { best.0 / area } else { 0.0 };
     if best.0 == f32::INFINITY {
         // Every centroid fell in one bin on every axis (extremely clustered): median split.
-        return if n <= MAX_LEAF { None } else { Some(median(refs)) };
+        return median(refs);
     }
     if n <= MAX_LEAF && split_cost >= n as f32 {
-        return None;
+        return Split::Leaf;
     }
-    // Partition in place by the chosen bin boundary (same binning arithmetic as above).
+    // Partition in place by the chosen bin boundary (same binning arithmetic as above), gathering
+    // both halves' bounds on the way (the children need them, and it saves them a pass).
     let (axis, split_bin) = (best.1, best.2);
+    let (mut lb, mut lcb, mut rb, mut rcb) = (Aabb::EMPTY, Aabb::EMPTY, Aabb::EMPTY, Aabb::EMPTY);
     let mut i = 0usize;
     let mut j = n;
     while i < j {
-        if bin_of(refs[i].centroid2())[axis] <= split_bin {
+        let r = refs[i];
+        let c = r.centroid2();
+        if bin_of(c)[axis] <= split_bin {
+            lb.grow(r.min(), r.max());
+            lcb.grow(c, c);
             i += 1;
         } else {
+            rb.grow(r.min(), r.max());
+            rcb.grow(c, c);
             j -= 1;
             refs.swap(i, j);
         }
     }
-    Some(i)
+    Split::At { mid: i, left: (lb, lcb), right: (rb, rcb) }
 }
 
 /// Flatten `sub` into `nodes`, its root written at `at` (pushing a fresh root when `root`).
