@@ -247,7 +247,10 @@ def test_shade_is_eval_times_cosine_for_physical_models(name: str, rng: np.rando
     s = m.shade(**geo).astype(np.float64)
     nl = np.einsum("ij,ij->i", *(g / np.linalg.norm(g, axis=1, keepdims=True) for g in (geo["l"], geo["n"])))
     if brdfpy.model_info(name)["physical"]:
-        np.testing.assert_allclose(s, f * np.maximum(nl, 0)[:, None], rtol=1e-5, atol=1e-30)
+        # The library computes n.l from float32 unit vectors: an absolute error of a few 1e-7 in the
+        # cosine, which is a large relative error only where n.l ~ 0 (there s ~ 0 too).
+        want = f * np.maximum(nl, 0)[:, None]
+        assert np.all(np.abs(s - want) <= 1e-5 * np.abs(want) + 5e-7 * np.abs(f)), name
     else:
         # classic models: f is the course formula divided by n.l (0 where n.l <= 0)
         lit = nl > 1e-3
