@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Iterator
+from pathlib import Path
 
 import brdfpy
 import numpy as np
@@ -399,3 +400,29 @@ def test_degenerate_faces_are_skipped_not_an_error() -> None:
     m = brdfpy.Mesh(v, [[0, 1, 2], [3, 3, 3]])
     w = m.compute_obscurance(d_max=1.0)
     assert w[0] == 1.0 and np.isfinite(w).all()
+
+
+# --------------------------------------------------------------------------------------- command line
+
+
+def test_cli_renders_a_user_mesh_with_ao_and_shadows(tmp_path) -> None:
+    # The CC0 cow of tests/data on the CLI's floor: obscurance only ever darkens (w <= 1 scales the
+    # ambient term, and tone mapping is monotone), shadows only ever darken, and both visibly do.
+    from brdfpy import cli
+    from PIL import Image
+
+    mesh = str(Path(__file__).parent / "data" / "garland_cow.ply")
+    images = {}
+    for name, extra in {
+        "both": ["--ao", "--shadows"],
+        "shadows": ["--shadows"],
+        "neither": ["--no-shadows"],
+    }.items():
+        out = tmp_path / f"{name}.png"
+        args = ["render", "--mesh", mesh, "--size", "160x90", "--samples", "1", "-q", "-o", str(out)]
+        assert cli.main([*args, *extra]) == 0
+        with Image.open(out) as im:
+            images[name] = np.asarray(im).astype(int)
+    both, shadows, neither = images["both"], images["shadows"], images["neither"]
+    assert (both <= shadows).all() and (both < shadows).any(axis=2).sum() > 500
+    assert (shadows <= neither).all() and (shadows < neither).any(axis=2).sum() > 500

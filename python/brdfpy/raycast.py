@@ -102,9 +102,11 @@ class RayCaster:
 
     Examples
     --------
-    >>> rc = brdfpy.RayCaster(brdfpy.icosphere(4))
-    >>> rc.closest_hit([0, 0, 5], [0, 0, -1]).t      # the unit sphere, 4 units ahead
-    array([4.0...], dtype=float32)
+    >>> rc = brdfpy.RayCaster(brdfpy.plane())  # the square y = 0, |x|, |z| <= 1
+    >>> rc.closest_hit([0, 2, 0], [0, -1, 0]).t
+    array([2.], dtype=float32)
+    >>> rc.any_hit([[0, 2, 0], [5, 2, 0]], [0, -1, 0])
+    array([ True, False])
     """
 
     __slots__ = ("_rc",)
