@@ -38,14 +38,10 @@ pub fn refract(w: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
 }
 
 /// `v / |v|`, or zero for a zero-length or non-finite vector: degenerate input shades to black, never NaN.
-///
-/// Computed as `v · (1/√|v|²)`: one division and three products instead of three divisions (within
-/// 1.5 ulp of the exact quotient; division is the slowest step of batch evaluation). The batch
-/// evaluator's lane form, [`crate::simd::V3::normalize_or_zero`], does the same operations.
 #[inline]
 pub fn normalize_or_zero(v: Vec3A) -> Vec3A {
     let len2 = v.length_squared();
-    if len2 > 0.0 && len2.is_finite() { v * (1.0 / len2.sqrt()) } else { Vec3A::ZERO }
+    if len2 > 0.0 && len2.is_finite() { v / len2.sqrt() } else { Vec3A::ZERO }
 }
 
 #[cfg(test)]
