@@ -39,7 +39,7 @@ pub struct SceneOcclusion<'a> {
     shadows: bool,
     /// World-space positions of each instance's vertices.
     world: Vec<Vec<Vec3>>,
-    /// Per-vertex `w` of each instance (empty unless per-vertex obscurance is on).
+    /// Per-vertex `w` of each instance (empty for an instance whose obscurance is per pixel or off).
     vertex_w: Vec<Vec<f32>>,
     shadow_eps: f32,
 }
@@ -48,10 +48,46 @@ impl<'a> SceneOcclusion<'a> {
     /// Prepare obscurance (`ao`, validated here) and/or shadows (`shadows`) for `scene`.
     /// Per-vertex obscurance is computed here, in parallel.
     pub fn new(scene: &'a Scene, ao: Option<AoOptions>, shadows: bool) -> Result<Self, RasterError> {
+        Self::with_stored(scene, ao, shadows, vec![None; scene.instances.len()])
+    }
+
+    /// As [`SceneOcclusion::new`], with per-vertex obscurance already computed for some instances
+    /// (`stored[k]`: one `w ∈ [0, 1]` per vertex of instance `k`'s mesh, e.g. from
+    /// [`crate::ao::mesh_obscurance`] kept with the mesh). Stored values are interpolated for their
+    /// instances whatever `ao.per_pixel` says; the other instances follow `ao` (estimated per vertex
+    /// here, or per pixel). Without `ao`, stored values are ignored (no obscurance).
+    pub fn with_stored(
+        scene: &'a Scene,
+        ao: Option<AoOptions>,
+        shadows: bool,
+        stored: Vec<Option<Vec<f32>>>,
+    ) -> Result<Self, RasterError> {
         if let Some(o) = &ao {
             o.validate()?;
         }
         scene.validate()?;
+        if stored.len() != scene.instances.len() {
+            return Err(RasterError::arg(
+                "obscurance",
+                format!("{} stored arrays for {} instances", stored.len(), scene.instances.len()),
+            ));
+        }
+        for (k, (w, inst)) in stored.iter().zip(&scene.instances).enumerate() {
+            let Some(w) = w else { continue };
+            let nv = inst.mesh.positions.len();
+            if w.len() != nv {
+                return Err(RasterError::arg(
+                    "obscurance",
+                    format!("instance {k} stores {} values for {nv} vertices", w.len()),
+                ));
+            }
+            if let Some(i) = w.iter().position(|x| !(0.0..=1.0).contains(x)) {
+                return Err(RasterError::arg(
+                    "obscurance",
+                    format!("instance {k}, vertex {i}: {} is not in [0, 1]", w[i]),
+                ));
+            }
+        }
         let world: Vec<Vec<Vec3>> = scene
             .instances
             .iter()
@@ -69,15 +105,19 @@ impl<'a> SceneOcclusion<'a> {
             scene.instances.iter().zip(&world).map(|(i, w)| (&w[..], &i.mesh.indices[..])).collect();
         let bvh = Bvh::from_parts(&parts)?;
         let sampler = ao.as_ref().map(|o| Sampler::new(&bvh, o)).transpose()?;
-        let mut vertex_w = Vec::new();
-        if let Some(o) = ao.filter(|o| !o.per_pixel) {
-            let est = Obscurance::new(&bvh, &o)?;
-            for (inst, w) in scene.instances.iter().zip(&world) {
-                let nm: Mat3 = inst.normal_matrix();
-                let normals: Vec<Vec3> =
-                    inst.mesh.normals.iter().map(|&n| (nm * n).normalize_or_zero()).collect();
-                vertex_w.push(est.at_points(w, &normals)?);
-            }
+        let mut vertex_w = Vec::with_capacity(scene.instances.len());
+        for ((inst, w), st) in scene.instances.iter().zip(&world).zip(stored) {
+            vertex_w.push(match (&ao, st) {
+                (None, _) => Vec::new(),
+                (Some(_), Some(st)) => st,
+                (Some(o), None) if o.per_pixel => Vec::new(),
+                (Some(o), None) => {
+                    let nm: Mat3 = inst.normal_matrix();
+                    let normals: Vec<Vec3> =
+                        inst.mesh.normals.iter().map(|&n| (nm * n).normalize_or_zero()).collect();
+                    Obscurance::new(&bvh, o)?.at_points(w, &normals)?
+                }
+            });
         }
         let shadow_eps = shadow_offset(&bvh);
         Ok(Self { scene, bvh, ao, sampler, shadows, world, vertex_w, shadow_eps })
@@ -88,7 +128,7 @@ impl<'a> SceneOcclusion<'a> {
         &self.bvh
     }
 
-    /// Per-vertex obscurance of instance `k` (empty when obscurance is off or per pixel).
+    /// Per-vertex obscurance of instance `k` (empty when its obscurance is off or per pixel).
     pub fn vertex_obscurance(&self, k: usize) -> &[f32] {
         self.vertex_w.get(k).map_or(&[], |v| &v[..])
     }
@@ -118,12 +158,12 @@ fn point_key(at: &ShadePoint) -> u64 {
 
 impl Occlusion for SceneOcclusion<'_> {
     fn obscurance(&self, at: &ShadePoint) -> f32 {
-        let (Some(o), Some(sampler)) = (&self.ao, &self.sampler) else { return 1.0 };
+        let Some(sampler) = &self.sampler else { return 1.0 };
         let k = at.instance as usize;
-        if o.per_pixel {
+        let w = &self.vertex_w[k];
+        if w.is_empty() {
             return sampler.at(&self.bvh, at.p, at.n, point_key(at));
         }
-        let w = &self.vertex_w[k];
         if at.vertex != NO_TRI {
             return w[at.vertex as usize];
         }

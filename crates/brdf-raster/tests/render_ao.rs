@@ -168,3 +168,24 @@ fn a_real_mesh_renders_with_obscurance_and_shadows_darker_only_where_occluded() 
     assert!(covered > 1000, "the scene fills the frame: {covered}");
     assert!(darker > 50 && darker < covered, "{darker} of {covered} covered pixels darker");
 }
+
+#[test]
+fn stored_per_vertex_obscurance_is_interpolated_for_its_instance_and_checked() {
+    use brdf_raster::occlusion::SceneOcclusion;
+    use brdf_raster::render_with;
+    let s = scene(1.0, vec![], true);
+    let nv = s.instances[0].mesh.positions.len();
+    let ao = AoOptions { d_max: 1.0, samples: 16, ..AoOptions::default() };
+    // The plane stores w = 0.5 everywhere; the sphere gets its own estimate.
+    let occ = SceneOcclusion::with_stored(&s, Some(ao), false, vec![Some(vec![0.5; nv]), None]).unwrap();
+    assert!(occ.vertex_obscurance(0).iter().all(|&w| w == 0.5));
+    assert_eq!(occ.vertex_obscurance(1).len(), s.instances[1].mesh.positions.len());
+    let f = render_with(&s, &camera(), &options(Some(ao), false), &occ, None).unwrap();
+    let (c, r) = pixel(2.8, -2.8);
+    assert!((f.hdr_at(c, r).x - 0.5).abs() < 1e-6, "{}", f.hdr_at(c, r));
+    // Wrong lengths and values outside [0, 1] are refused, naming the argument.
+    for bad in [vec![Some(vec![0.5; nv - 1]), None], vec![Some(vec![1.5; nv]), None], vec![None]] {
+        let e = SceneOcclusion::with_stored(&s, Some(ao), false, bad).err().expect("refused").to_string();
+        assert!(e.starts_with("obscurance"), "{e}");
+    }
+}
