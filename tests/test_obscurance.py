@@ -173,6 +173,20 @@ def test_values_lie_in_unit_interval_and_creases_are_darker() -> None:
     assert cow.compute_obscurance(d_max=0.4, samples=64).mean() < w.mean()
 
 
+def test_a_closed_mesh_seen_from_inside_is_enclosed() -> None:
+    # The CC0 cow of tests/data (closed, outward) and the same surface with its normals turned inward:
+    # from inside, every ray meets the far wall within the cow's length (~1.2 at most), so with d_max = 5
+    # each mu is at most mu(1.25) = (1 - e^(-2 * 1.25/5))/(1 - e^(-2)) ~ 0.455 — except at a handful of
+    # needle tips (tail, horns) whose vertex normal points out of the thin part.
+    cow = brdfpy.load_mesh(Path(__file__).parent / "data" / "garland_cow.ply")
+    inside = cow.copy().flip_winding()
+    w_out = cow.compute_obscurance(d_max=5.0, samples=32)
+    w_in = inside.compute_obscurance(d_max=5.0, samples=32)
+    bound = float(mu(np.array([1.25]), 2.0, 5.0)[0])
+    assert (w_in <= bound + 1e-6).mean() > 0.999
+    assert w_in.mean() < 0.6 * w_out.mean()
+
+
 def test_larger_tau_counts_far_occluders_less() -> None:
     # mu(d) = (1 - e^(-tau d/d_max))/(1 - e^(-tau)) increases with tau for every d in (0, d_max): the
     # same geometry at larger tau is less obscured.
