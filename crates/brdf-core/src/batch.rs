@@ -69,8 +69,7 @@ impl Broadcast<'_, Vec3> {
         let rows: &[Vec3] = &self.data[start..end];
         let last = rows.len() - 1;
         if last + 1 == F::LANES {
-            // A full group: plain loads the compiler turns into shuffles.
-            V3 { x: F::from_fn(|j| rows[j].x), y: F::from_fn(|j| rows[j].y), z: F::from_fn(|j| rows[j].z) }
+            F::load_rows(rows)
         } else {
             let at = |j: usize| rows[j.min(last)];
             V3 { x: F::from_fn(|j| at(j).x), y: F::from_fn(|j| at(j).y), z: F::from_fn(|j| at(j).z) }
@@ -194,8 +193,12 @@ impl<M: Bxdf> LaneKernel for ChunkKernel<'_, '_, M> {
                 Quantity::Brdf => eval_model_lanes(m, &g, valid),
                 Quantity::Shade => shade_model_lanes(m, &g, valid),
             };
-            for (j, o) in group.iter_mut().enumerate() {
-                *o = value.lane(j);
+            if group.len() == F::LANES {
+                F::store_rows(value, group);
+            } else {
+                for (j, o) in group.iter_mut().enumerate() {
+                    *o = value.lane(j);
+                }
             }
         }
     }

@@ -19,13 +19,22 @@
 #![allow(unsafe_code)]
 
 use std::arch::x86_64::{
-    __m256, _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ, _mm256_add_ps, _mm256_and_ps, _mm256_andnot_ps,
-    _mm256_blendv_ps, _mm256_cmp_ps, _mm256_div_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_sqrt_ps,
+    __m128, __m256, _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ, _mm256_add_ps, _mm256_and_ps,
+    _mm256_andnot_ps, _mm256_blendv_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
+    _mm256_extractf128_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set_m128, _mm256_shuffle_ps, _mm256_sqrt_ps,
     _mm256_sub_ps, _mm256_xor_ps,
 };
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
-use super::{Lane, LaneKernel};
+use glam::Vec3;
+
+use super::{Lane, LaneKernel, V3};
+
+/// `_MM_SHUFFLE(a, b, c, d)`: the immediate of `_mm256_shuffle_ps` that takes, in each 128-bit half,
+/// elements `d`, `c` of the first operand and `b`, `a` of the second.
+const fn sh(a: i32, b: i32, c: i32, d: i32) -> i32 {
+    (a << 6) | (b << 4) | (c << 2) | d
+}
 
 /// Run `k` with eight AVX lanes if this CPU has AVX2 and return `None`; else give `k` back.
 #[inline]
@@ -162,6 +171,59 @@ impl Lane for Avx8 {
     fn select(m: AvxMask, a: Self, b: Self) -> Self {
         // SAFETY: as above. Lanes of `m` are all-ones or all-zeros, so the sign-bit blend is exact.
         Self(unsafe { _mm256_blendv_ps(b.0, a.0, m.0) })
+    }
+
+    /// Eight rows `x y z` (24 floats) to three registers in six shuffles (the AoS → SoA transposition
+    /// of Intel's "3D vector normalization using 256-bit AVX"): each 128-bit half holds rows 0–3 and
+    /// 4–7 of the same three quadwords.
+    #[inline(always)]
+    fn load_rows(rows: &[Vec3]) -> V3<Self> {
+        let Ok(rows) = <&[Vec3; 8]>::try_from(rows) else { unreachable!("load_rows takes 8 rows") };
+        let f: &[f32; 24] = bytemuck::cast_ref(rows);
+        let q = |i: usize| -> __m128 { bytemuck::cast([f[i], f[i + 1], f[i + 2], f[i + 3]]) };
+        // SAFETY: AVX shuffles on values that exist only on AVX2 CPUs (module docs).
+        unsafe {
+            let m03 = _mm256_set_m128(q(12), q(0)); // x0 y0 z0 x1 | x4 y4 z4 x5
+            let m14 = _mm256_set_m128(q(16), q(4)); // y1 z1 x2 y2 | y5 z5 x6 y6
+            let m25 = _mm256_set_m128(q(20), q(8)); // z2 x3 y3 z3 | z6 x7 y7 z7
+            let xy = _mm256_shuffle_ps::<{ sh(2, 1, 3, 2) }>(m14, m25); // x2 y2 x3 y3
+            let yz = _mm256_shuffle_ps::<{ sh(1, 0, 2, 1) }>(m03, m14); // y0 z0 y1 z1
+            V3 {
+                x: Self(_mm256_shuffle_ps::<{ sh(2, 0, 3, 0) }>(m03, xy)),
+                y: Self(_mm256_shuffle_ps::<{ sh(3, 1, 2, 0) }>(yz, xy)),
+                z: Self(_mm256_shuffle_ps::<{ sh(3, 0, 3, 1) }>(yz, m25)),
+            }
+        }
+    }
+
+    /// The inverse of [`Avx8::load_rows`], six shuffles and six 16-byte stores.
+    #[inline(always)]
+    fn store_rows(v: V3<Self>, rows: &mut [Vec3]) {
+        let Ok(rows) = <&mut [Vec3; 8]>::try_from(rows) else { unreachable!("store_rows takes 8 rows") };
+        let f: &mut [f32; 24] = bytemuck::cast_mut(rows);
+        let (x, y, z) = (v.x.0, v.y.0, v.z.0);
+        // SAFETY: as above.
+        let (r03, r14, r25) = unsafe {
+            let rxy = _mm256_shuffle_ps::<{ sh(2, 0, 2, 0) }>(x, y); // x0 x2 y0 y2
+            let ryz = _mm256_shuffle_ps::<{ sh(3, 1, 3, 1) }>(y, z); // y1 y3 z1 z3
+            let rzx = _mm256_shuffle_ps::<{ sh(3, 1, 2, 0) }>(z, x); // z0 z2 x1 x3
+            (
+                _mm256_shuffle_ps::<{ sh(2, 0, 2, 0) }>(rxy, rzx), // x0 y0 z0 x1
+                _mm256_shuffle_ps::<{ sh(3, 1, 2, 0) }>(ryz, rxy), // y1 z1 x2 y2
+                _mm256_shuffle_ps::<{ sh(3, 1, 3, 1) }>(rzx, ryz), // z2 x3 y3 z3
+            )
+        };
+        let halves = |r: __m256| -> ([f32; 4], [f32; 4]) {
+            // SAFETY: as above.
+            unsafe {
+                (bytemuck::cast(_mm256_castps256_ps128(r)), bytemuck::cast(_mm256_extractf128_ps::<1>(r)))
+            }
+        };
+        for (k, r) in [r03, r14, r25].into_iter().enumerate() {
+            let (lo, hi) = halves(r);
+            f[4 * k..4 * k + 4].copy_from_slice(&lo);
+            f[12 + 4 * k..16 + 4 * k].copy_from_slice(&hi);
+        }
     }
 }
 

@@ -88,6 +88,24 @@ pub trait Lane:
         Self::from_fn(|i| f(self.lane(i)))
     }
 
+    /// `rows` (exactly `LANES` of them) transposed into lanes: lane `j` of `x` is `rows[j].x`, …
+    #[inline(always)]
+    fn load_rows(rows: &[Vec3]) -> V3<Self> {
+        V3 {
+            x: Self::from_fn(|j| rows[j].x),
+            y: Self::from_fn(|j| rows[j].y),
+            z: Self::from_fn(|j| rows[j].z),
+        }
+    }
+
+    /// The inverse of [`Lane::load_rows`]: lane `j` of `v` into `rows[j]` (exactly `LANES` rows).
+    #[inline(always)]
+    fn store_rows(v: V3<Self>, rows: &mut [Vec3]) {
+        for (j, r) in rows.iter_mut().enumerate() {
+            *r = v.lane(j);
+        }
+    }
+
     /// `f32::clamp(lo, hi)` per lane (NaN stays NaN).
     #[inline(always)]
     fn clamp(self, lo: f32, hi: f32) -> Self {
