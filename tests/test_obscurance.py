@@ -326,6 +326,18 @@ def test_render_uses_stored_values_interpolated_over_the_faces() -> None:
     np.testing.assert_allclose(estimated, 1.0, rtol=1e-6)
 
 
+def test_stored_flag_without_stored_values_is_an_error_not_a_silent_estimate() -> None:
+    # The mesh is stored after Scene.add took its snapshot: the scene's copy has nothing stored.
+    plane = brdfpy.plane()
+    scene = ambient_only(plane)
+    plane.compute_obscurance(d_max=1.0, store=True)
+    cam = brdfpy.Camera.orthographic(**TOP_DOWN)
+    with pytest.raises(ValueError, match="stored"):
+        scene.render(cam, 8, 8, ao={"stored": True})
+    scene.instances[0].mesh.compute_obscurance(d_max=1.0, store=True)  # the instance's own mesh
+    assert np.asarray(scene.render(cam, 8, 8, ao={"stored": True}).hdr).max() > 0
+
+
 def test_render_with_stored_values_equals_render_estimating_them() -> None:
     cow = brdfpy.builtin_mesh("cow")
     opts = {"tau": 2.0, "d_max": 0.3, "samples": 32, "seed": 5}

@@ -393,7 +393,8 @@ class Mesh:
         of values in [0, 1], e.g. baked elsewhere); ``None`` clears it. ``Scene.render(ao={"stored":
         True})`` interpolates it over the faces instead of estimating ``w``. It is cleared by
         :meth:`compute_normals` and :meth:`flip_winding` (which change the hemispheres it was
-        computed over) and not carried over by :meth:`transformed`.
+        computed over) and not carried over by :meth:`transformed`. A scene keeps the mesh as it was when
+        added: store the values before ``Scene.add(mesh)``, or on the instance's own ``Instance.mesh``.
         """
         return self._w
 

@@ -351,7 +351,15 @@ class Scene:
         """Each instance's stored per-vertex obscurance (or None) when ``ao`` asks for stored values."""
         if not isinstance(ao, Mapping) or not ao.get("stored", False):
             return None
-        return [inst.mesh.obscurance for inst in self.instances]
+        stored = [inst.mesh.obscurance for inst in self.instances]
+        if all(w is None for w in stored):
+            # Most likely computed on the mesh after Scene.add took its snapshot: say so, do not silently
+            # estimate instead.
+            raise ValueError(
+                "ao stored: no instance's mesh has a stored obscurance; call mesh.compute_obscurance(..., "
+                "store=True) before Scene.add(mesh), or on the added instance's mesh (Instance.mesh)"
+            )
+        return stored
 
     def _ao_args(
         self, ao: bool | Mapping[str, Any] | None
