@@ -20,6 +20,25 @@ fn cpu_ms() -> Option<f64> {
     Some(ticks * 10.0) // USER_HZ is 100 on Linux
 }
 
+/// CPU time (user + system, ms) of every thread of this process, by thread id, from
+/// `/proc/self/task/*/stat` (Linux; empty elsewhere).
+fn thread_cpu_ms() -> std::collections::BTreeMap<u64, f64> {
+    let mut out = std::collections::BTreeMap::new();
+    let Ok(dir) = std::fs::read_dir("/proc/self/task") else { return out };
+    for entry in dir.flatten() {
+        let Some(tid) = entry.file_name().to_str().and_then(|s| s.parse::<u64>().ok()) else { continue };
+        let Ok(stat) = std::fs::read_to_string(entry.path().join("stat")) else { continue };
+        let Some(close) = stat.rfind(')') else { continue };
+        let f: Vec<&str> = stat[close + 2..].split_whitespace().collect();
+        if let (Some(u), Some(s)) =
+            (f.get(11).and_then(|x| x.parse::<f64>().ok()), f.get(12).and_then(|x| x.parse::<f64>().ok()))
+        {
+            out.insert(tid, (u + s) * 10.0);
+        }
+    }
+    out
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or_else(|| default.to_string());
@@ -46,6 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let times = pool.install(|| -> Result<Vec<f64>, brdf_raster::RasterError> {
                 render_into(&scene, &camera, &options, &mut frame)?;
                 let cpu0 = cpu_ms();
+                let per_thread0 = thread_cpu_ms();
                 let mut times = Vec::with_capacity(frames);
                 for _ in 0..frames {
                     let t = Instant::now();
@@ -55,6 +75,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         frame = render(&scene, &camera, &options)?;
                     }
                     times.push(t.elapsed().as_secs_f64() * 1e3);
+                }
+                // Work per thread: on a shared machine wall-clock speed-ups are meaningless, but the
+                // split of CPU time between the threads bounds the speed-up an idle machine gives
+                // (sum / max, if the threads run concurrently).
+                let busy: Vec<f64> = thread_cpu_ms()
+                    .into_iter()
+                    .map(|(tid, t)| (t - per_thread0.get(&tid).copied().unwrap_or(0.0)) / frames as f64)
+                    .filter(|&t| t > 0.5)
+                    .collect();
+                if threads > 1 && !busy.is_empty() {
+                    let (sum, max) = (busy.iter().sum::<f64>(), busy.iter().copied().fold(0.0, f64::max));
+                    println!(
+                        "{threads} threads: CPU ms/frame per busy thread {:?} → balance bound on speed-up {:.2}×",
+                        busy.iter().map(|t| (t * 10.0).round() / 10.0).collect::<Vec<_>>(),
+                        sum / max
+                    );
                 }
                 if let (Some(a), Some(b)) = (cpu0, cpu_ms()) {
                     times.push((b - a) / frames as f64);

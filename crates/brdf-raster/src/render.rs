@@ -233,6 +233,7 @@ pub fn render_with<O: Occlusion>(
         exposure: options.exposure,
     };
     prep.draw(&mut frame, occlusion, progress);
+    prep.release();
     Ok(frame)
 }
 
@@ -273,6 +274,7 @@ pub fn render_with_into<O: Occlusion>(
     frame.normal.resize(n, Vec3::ZERO);
     frame.triangle_id.resize(n, 0);
     prep.draw(frame, occlusion, progress);
+    prep.release();
     Ok(())
 }
 
@@ -459,6 +461,19 @@ impl<'a> Prepared<'a> {
             })
             .collect();
         Ok(prep)
+    }
+
+    /// Free the per-frame arrays on the pool's threads: returning tens of megabytes to the system
+    /// (munmap) is slow enough to unbalance the threads when one of them does it all.
+    fn release(self) {
+        let Prepared { screen, clip, world, vertex_color, chunks, .. } = self;
+        rayon::join(
+            || chunks.into_par_iter().with_max_len(8).for_each(drop),
+            || {
+                rayon::join(|| drop(screen), || drop(clip));
+                rayon::join(|| drop(world), || drop(vertex_color));
+            },
+        );
     }
 
     /// Draw every band of the frame in parallel (each band owns its rows of every buffer).
