@@ -24,7 +24,6 @@ use pyo3::types::PyDict;
 
 use crate::errors::{invalid, to_py};
 use crate::models::Model;
-use crate::raycast::StoredObscurance;
 use crate::threads::pool;
 
 /// A raster error as a Python exception: a file that cannot be parsed, an invalid mesh or argument →
@@ -655,7 +654,7 @@ fn check_size(name: &'static str, v: i64) -> PyResult<u32> {
 /// called (with the GIL, from worker threads, one call at a time, increasing fractions) as bands of
 /// rows finish; an exception it raises is re-raised after the render. `vertex_obscurance`: one entry
 /// per instance, its mesh's stored per-vertex `w` (float32 `(V,)`) or `None`; with `ao` on, instances
-/// that have one use it instead of an estimate (see [`crate::raycast::StoredObscurance`]).
+/// that have one use it instead of an estimate (`SceneOcclusion::with_stored`).
 #[pyfunction]
 #[pyo3(signature = (instances, lights, ambient_light, background, camera, width, height, shading="phong",
     cull_back_faces=true, samples=1, tonemap="clamp", exposure=0.0, white=None, ao=None, shadows=false,
@@ -753,12 +752,12 @@ pub fn render_scene(
             if options.ao.is_none() && !options.shadows {
                 return render_with(&scene, &cam, &options, &NoOcclusion, Some(report));
             }
-            if let (Some(ao), Some(stored)) = (options.ao, stored) {
-                let occlusion = StoredObscurance::new(&scene, ao, options.shadows, stored)?;
-                return render_with(&scene, &cam, &options, &occlusion, Some(report));
-            }
-            // One BVH over the world-space scene; per-vertex obscurance is estimated here, in parallel.
-            let occlusion = SceneOcclusion::new(&scene, options.ao, options.shadows)?;
+            // One BVH over the world-space scene; per-vertex obscurance is estimated here, in parallel,
+            // except for instances whose mesh brought stored values.
+            let occlusion = match stored {
+                Some(stored) => SceneOcclusion::with_stored(&scene, options.ao, options.shadows, stored)?,
+                None => SceneOcclusion::new(&scene, options.ao, options.shadows)?,
+            };
             render_with(&scene, &cam, &options, &occlusion, Some(report))
         })
     });

@@ -3,10 +3,8 @@
 //! - [`RayCaster`]: a BVH over one or more meshes (each placed by a 4×4 transform), answering
 //!   closest-hit and any-hit queries for NumPy batches of rays, and obscurance `w` at arbitrary points
 //!   against everything in it.
-//! - [`mesh_obscurance`]: per-vertex `w` of a mesh against itself (`Mesh.compute_obscurance`).
-//! - [`StoredObscurance`]: an [`Occlusion`] provider for renders that reads per-vertex `w` stored on
-//!   meshes instead of estimating it, and takes shadows (and the rest) from a
-//!   [`SceneOcclusion`].
+//! - [`mesh_obscurance`]: per-vertex `w` of a mesh against itself (`Mesh.compute_obscurance`; renders
+//!   use stored values through `SceneOcclusion::with_stored`, see `raster.rs`).
 //!
 //! Every call checks its arguments (naming them), then runs with the GIL released on the bindings'
 //! pool (`threads.rs`). Each ray and each point is answered independently (rays by the BVH alone,
@@ -16,13 +14,10 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use brdf_core::lights::Incident;
+use brdf_raster::Mesh;
 use brdf_raster::ao::{AoOptions, MAX_SAMPLES, Obscurance};
 use brdf_raster::bvh::{Bvh, Ray};
-use brdf_raster::occlusion::SceneOcclusion;
-use brdf_raster::tiles::NO_TRI;
-use brdf_raster::{Mesh, Occlusion, RasterError, Scene, ShadePoint};
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -284,74 +279,5 @@ impl RayCaster {
             .detach(|| pool.install(|| Obscurance::new(&self.bvh, &opts)?.at_points(p, n)))
             .map_err(raster_err)?;
         Ok(PyArray1::from_vec(py, w))
-    }
-}
-
-/// Per-vertex obscurance stored on meshes, for [`render_with`](brdf_raster::render_with): instance `k`
-/// with `stored[k] = Some(w)` reads `w` (at its vertices in Gouraud mode, interpolated with the
-/// perspective-correct barycentrics elsewhere, as `SceneOcclusion` does with the values it estimates);
-/// instances without stored values, shadows and eq. 12.75's combined term come from `base`.
-pub struct StoredObscurance<'a> {
-    scene: &'a Scene,
-    base: SceneOcclusion<'a>,
-    stored: Vec<Option<Vec<f32>>>,
-}
-
-impl<'a> StoredObscurance<'a> {
-    /// Check that each stored array has one value in [0, 1] per vertex of its instance's mesh, then
-    /// prepare `base` with `ao` and `shadows`. When every instance has stored values the base is asked
-    /// for per-pixel obscurance, which it prepares lazily, so no per-vertex pass runs for nothing.
-    pub fn new(
-        scene: &'a Scene,
-        ao: AoOptions,
-        shadows: bool,
-        stored: Vec<Option<Vec<f32>>>,
-    ) -> Result<Self, RasterError> {
-        if stored.len() != scene.instances.len() {
-            return Err(RasterError::arg(
-                "obscurance",
-                format!("{} stored arrays for {} instances", stored.len(), scene.instances.len()),
-            ));
-        }
-        for (k, (w, inst)) in stored.iter().zip(&scene.instances).enumerate() {
-            let Some(w) = w else { continue };
-            let nv = inst.mesh.vertex_count();
-            if w.len() != nv {
-                return Err(RasterError::arg(
-                    "obscurance",
-                    format!("instance {k} stores {} values for {nv} vertices", w.len()),
-                ));
-            }
-            if let Some(i) = w.iter().position(|x| !(0.0..=1.0).contains(x)) {
-                return Err(RasterError::arg(
-                    "obscurance",
-                    format!("instance {k}, vertex {i}: {} is not in [0, 1]", w[i]),
-                ));
-            }
-        }
-        let all_stored = stored.iter().all(Option::is_some);
-        let base_ao = AoOptions { per_pixel: ao.per_pixel || all_stored, ..ao };
-        let base = SceneOcclusion::new(scene, Some(base_ao), shadows)?;
-        Ok(Self { scene, base, stored })
-    }
-}
-
-impl Occlusion for StoredObscurance<'_> {
-    fn obscurance(&self, at: &ShadePoint) -> f32 {
-        let k = at.instance as usize;
-        let Some(w) = &self.stored[k] else { return self.base.obscurance(at) };
-        if at.vertex != NO_TRI {
-            return w[at.vertex as usize];
-        }
-        let [a, b, c] = self.scene.instances[k].mesh.indices[at.face as usize];
-        (at.bary.x * w[a as usize] + at.bary.y * w[b as usize] + at.bary.z * w[c as usize]).clamp(0.0, 1.0)
-    }
-
-    fn visibility(&self, at: &ShadePoint, light: usize, incident: &Incident) -> f32 {
-        self.base.visibility(at, light, incident)
-    }
-
-    fn indirect(&self, at: &ShadePoint, w: f32) -> Vec3 {
-        self.base.indirect(at, w)
     }
 }
