@@ -13,11 +13,11 @@ pub mod mesh;
 pub mod normals;
 pub mod occlusion;
 pub mod procedural;
-pub mod shadows;
 pub mod render;
 pub mod scene;
 pub mod setup;
 pub mod shading;
+pub mod shadows;
 pub mod tiles;
 
 pub use camera::{Camera, Projection};
