@@ -31,6 +31,7 @@ fn main() {
     let models = [
         ("lambert", Model::build("lambert", &[]).unwrap()),
         ("blinn_phong", Model::build("blinn_phong", &[]).unwrap()),
+        ("oren_nayar", Model::build("oren_nayar", &[]).unwrap()),
         (
             "cook_torrance",
             Model::build(
@@ -48,6 +49,15 @@ fn main() {
         None => vec![1, 0],
     };
     for (name, m) in models.iter().filter(|(name, _)| only.as_deref().is_none_or(|o| o == *name)) {
+        // The same work one sample at a time through the scalar API (what the batch replaced).
+        let t = Instant::now();
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = d.geometry(i).map_or(Vec3::ZERO, |g| m.eval(&g));
+        }
+        println!(
+            "{name:14} scalar     {:8.1} M evals/s wall (one pass)",
+            n as f64 / t.elapsed().as_secs_f64() / 1e6
+        );
         for &threads in &thread_counts {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut best = f64::INFINITY;
