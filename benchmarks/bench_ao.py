@@ -15,7 +15,8 @@ process CPU time of that run (CPU/wall near the thread count means the threads r
 
 Baseline: a vectorised float64 NumPy Moller-Trumbore test of every ray against every triangle, on a small
 subset of the rays (``--baseline-rays``), scaled to rays per second. The machine may be shared: the 1-minute
-load average before and after is recorded, and the 2-thread speed-up means little when it exceeds the cores.
+load average and the CPU pressure (Linux PSI: share of time some task waited for a CPU) before and after are
+recorded; the 2-thread speed-up means little when the load exceeds the cores.
 
 Run through ``python benchmarks/run.py ao`` or directly (``python benchmarks/bench_ao.py``).
 """
@@ -42,6 +43,15 @@ HORSE = "cyberware_horse.ply"
 
 def loadavg() -> float | None:
     return os.getloadavg()[0] if hasattr(os, "getloadavg") else None
+
+
+def cpu_pressure() -> float | None:
+    """Linux PSI: % of the last 10 s in which some runnable task waited for a CPU (None elsewhere)."""
+    try:
+        line = Path("/proc/pressure/cpu").read_text().splitlines()[0]
+        return float(line.split("avg10=")[1].split()[0])
+    except (OSError, IndexError, ValueError):
+        return None
 
 
 def load(spec: str) -> tuple[Any, str]:
@@ -249,12 +259,16 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             "python": platform.python_version(),
         },
         "loadavg_before": loadavg(),
+        "cpu_pressure_before": cpu_pressure(),
         "rays_per_batch": n_rays,
         "repeat": repeat,
         "samples_per_vertex": args.samples,
         "meshes": [],
     }
-    print(f"load average (1 min) before: {result['loadavg_before']}  cores: {os.cpu_count()}")
+    print(
+        f"load average (1 min) before: {result['loadavg_before']}  cores: {os.cpu_count()}  "
+        f"CPU pressure (some, avg10): {result['cpu_pressure_before']} %"
+    )
     rng = np.random.default_rng(0)
     try:
         for spec in specs:
@@ -265,7 +279,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     finally:
         brdfpy.set_num_threads(before)
     result["loadavg_after"] = loadavg()
-    print(f"\nload average (1 min) after: {result['loadavg_after']}")
+    result["cpu_pressure_after"] = cpu_pressure()
+    print(
+        f"\nload average (1 min) after: {result['loadavg_after']}  "
+        f"CPU pressure (some, avg10): {result['cpu_pressure_after']} %"
+    )
     return result
 
 
