@@ -4,8 +4,12 @@
 //! 70k Stanford bunny subdivided 1→4 twice (~1.1M triangles, generated here, build time only).
 //!
 //! ```text
-//! cargo run --release -p brdf-raster --example bench_bvh [-- --quick]   # BRDFPY_ASSETS=dir overrides
+//! cargo run --release -p brdf-raster --example bench_bvh [-- --quick] [--mesh horse] [--rays-only] [--threads 1]
 //! ```
+//!
+//! `BRDFPY_ASSETS=dir` overrides the mesh directory; `--mesh` keeps only meshes whose file name contains
+//! the given text; `--rays-only` skips the build and obscurance timings; `--threads` limits the thread
+//! counts timed (default 1 and 2).
 //!
 //! Rays start at random points on random triangles, offset along the face normal, in cosine-weighted
 //! directions around it (the obscurance pattern); "unbounded" rays run to infinity, "AO" rays stop at
@@ -46,9 +50,9 @@ fn thread_cpu() -> f64 {
         .map_or(f64::NAN, |ns| ns * 1e-9)
 }
 
-/// Best wall time of `reps` runs of `f` in a pool of `threads` threads, and the CPU time its threads
-/// used in that run [s]. On a machine shared with other work the wall time understates the speed; the
-/// CPU time shows what the code itself costs.
+/// Best wall time and best CPU time (summed over the pool's threads) of `reps` runs of `f` in a pool
+/// of `threads` threads [s]. On a machine shared with other work the wall time understates the speed;
+/// the CPU time shows what the code itself costs. Both are minima over the runs, taken separately.
 fn time<T: Send>(threads: usize, reps: usize, f: impl Fn() -> T + Sync) -> (f64, f64) {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
     let cpu = || pool.broadcast(|_| thread_cpu()).iter().sum::<f64>();
@@ -60,7 +64,7 @@ fn time<T: Send>(threads: usize, reps: usize, f: impl Fn() -> T + Sync) -> (f64,
             let wall = t0.elapsed().as_secs_f64();
             (wall, cpu() - c0)
         })
-        .fold((f64::INFINITY, f64::INFINITY), |a, b| if b.0 < a.0 { b } else { a })
+        .fold((f64::INFINITY, f64::INFINITY), |a, b| (a.0.min(b.0), a.1.min(b.1)))
 }
 
 fn surface_rays(mesh: &Mesh, n: usize, t_max: f32, seed: u64) -> Vec<Ray> {
@@ -111,11 +115,22 @@ fn subdivide(mesh: &Mesh) -> Mesh {
 }
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--quick");
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick");
+    let rays_only = args.iter().any(|a| a == "--rays-only");
+    let value = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1)).cloned();
+    let only = value("--mesh");
+    let thread_counts: Vec<usize> = match value("--threads") {
+        Some(t) => vec![t.parse().expect("--threads N")],
+        None => vec![1, 2],
+    };
     let n_rays = if quick { 200_000 } else { 1_000_000 };
     let reps = if quick { 1 } else { 3 };
     println!("brdf-raster BVH benchmark ({n_rays} rays per query kind, best of {reps})");
     for name in ["cyberware_horse.ply", "newell_teapot_n96.ply", "stanford_bunny_70k.ply"] {
+        if only.as_ref().is_some_and(|m| !name.contains(m.as_str())) {
+            continue;
+        }
         let path = assets().join(name);
         let Ok(mesh) = load_mesh(&path) else {
             println!("{name}: not found under {}, skipped", assets().display());
@@ -125,7 +140,7 @@ fn main() {
         let mesh = if big { subdivide(&subdivide(&mesh)) } else { mesh };
         let label = if big { "stanford_bunny_70k ×16 (subdivided)" } else { name };
         println!("\n{label}: {} triangles, {} vertices", mesh.indices.len(), mesh.positions.len());
-        for threads in [1, 2] {
+        for &threads in thread_counts.iter().filter(|_| !rays_only) {
             let (wall, cpu) = time(threads, reps, || Bvh::from_mesh(&mesh).expect("bvh"));
             println!("  build, {threads} thread(s): {wall:.3} s wall, {cpu:.3} s CPU");
         }
@@ -148,11 +163,11 @@ fn main() {
         let m = |n: f64, t: f64| n / t / 1e6;
         for (kind, rays) in [("unbounded", &unbounded), ("AO", &ao_rays)] {
             let n = rays.len() as f64;
-            let mut any_wall = [0.0; 2];
-            for (i, threads) in [1usize, 2].into_iter().enumerate() {
+            let mut any_wall = vec![];
+            for &threads in &thread_counts {
                 let (cw, cc) = time(threads, reps, || bvh.closest_hits(rays));
                 let (aw, ac) = time(threads, reps, || bvh.any_hits(rays));
-                any_wall[i] = aw;
+                any_wall.push(aw);
                 println!(
                     "  {kind:>9} {threads}T: closest {:.2} M/s wall ({:.2} M/s per CPU-s), any {:.2} M/s wall ({:.2} M/s per CPU-s)",
                     m(n, cw),
@@ -161,22 +176,29 @@ fn main() {
                     m(n, ac)
                 );
             }
-            println!("  {kind:>9} any-hit 2T/1T wall speed-up {:.2}x", any_wall[0] / any_wall[1]);
+            if let [one, two] = any_wall[..] {
+                println!("  {kind:>9} any-hit 2T/1T wall speed-up {:.2}x", one / two);
+            }
+        }
+        if rays_only {
+            continue;
         }
         let opts = AoOptions { tau: 2.0, d_max, samples: 64, ..AoOptions::default() };
         let rays = mesh.positions.len() as f64 * 64.0;
-        let mut walls = [0.0; 2];
-        for (i, threads) in [1usize, 2].into_iter().enumerate() {
+        let mut walls = vec![];
+        for &threads in &thread_counts {
             let (wall, cpu) = time(threads, 1, || {
                 obscurance_per_vertex(&bvh, &mesh.positions, &mesh.normals, &opts).expect("obscurance")
             });
-            walls[i] = wall;
+            walls.push(wall);
             println!(
                 "  per-vertex obscurance, 64 samples, {threads}T: {wall:.2} s wall ({:.2} M rays/s), {cpu:.2} s CPU ({:.2} M rays per CPU-s)",
                 m(rays, wall),
                 m(rays, cpu)
             );
         }
-        println!("  per-vertex obscurance 2T/1T wall speed-up {:.2}x", walls[0] / walls[1]);
+        if let [one, two] = walls[..] {
+            println!("  per-vertex obscurance 2T/1T wall speed-up {:.2}x", one / two);
+        }
     }
 }

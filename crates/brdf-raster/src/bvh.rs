@@ -23,10 +23,15 @@
 //! ## Layout
 //! The binary SAH tree is collapsed into a 4-wide tree (Wald, Benthin & Boulos 2008, "Getting rid of
 //! packets"; the layout of Embree's BVH4): each node holds its up to four children's boxes in SoA form
-//! (one `Vec4` per bound and axis), so a traversal step tests four boxes with a dozen SIMD operations,
-//! and the tree is about half as deep. Triangles are copied into leaf order (`[Vec3; 3]` each) with a
-//! parallel array of original triangle ids. Closest-hit visits children nearest first and skips
-//! entries farther than the best hit so far.
+//! (one `Vec4` per bound and axis) and four 32-bit child codes (an interior node index, or a leaf's
+//! first triangle packet and packet count), 128 bytes per node. A traversal step tests four boxes with
+//! a dozen SIMD operations, reading each axis's near and far plane by the sign of the ray direction
+//! (no min/max per slab), and the tree is about half as deep. Leaf triangles are stored in packets
+//! of four in SoA form (Embree's `Triangle4`), so one watertight test checks four triangles at once.
+//! Closest-hit visits children nearest first and skips entries farther than the best hit so far;
+//! any-hit visits them in any order and tests leaves as soon as their box is hit. The query loops
+//! are compiled once per dominant ray axis (a const generic), so the watertight test's axis rotation
+//! costs nothing per triangle.
 //!
 //! ## Queries
 //! A ray is `origin + t·dir` for `t ∈ [max(t_min, 0), t_max]`; `dir` need not be unit (t is then in
@@ -43,7 +48,7 @@
 //! shared edge), the one with the smallest original triangle id. So the answer does not depend on the
 //! traversal order and equals a brute-force loop using [`intersect_triangle`] with the same rule.
 
-use glam::{Mat4, Vec3, Vec3A, Vec3Swizzles, Vec4};
+use glam::{Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use crate::{Mesh, RasterError, mesh::MAX_ELEMENTS};
@@ -144,33 +149,45 @@ pub struct Hit {
     pub v: f32,
 }
 
-/// Per-ray constants of the watertight test and the slab test.
+/// Per-ray constants of the slab test and of the watertight triangle test, each splatted over four
+/// lanes (one lane per box or triangle).
 #[derive(Clone, Copy)]
-struct Prepared {
-    o: Vec3A,
-    inv: Vec3A,
-    /// `kz`, the axis of the largest |dir| component; `(kx, ky, kz)` is the cyclic rotation of
+struct RayLanes {
+    /// Origin, one splat per axis.
+    o: [Vec4; 3],
+    /// `1/d` per axis; 1/0 and 1/subnormal become ±`f32::MAX` instead of ±∞, so `(plane − o)·inv` is
+    /// never 0·∞ = NaN (a ray lying in a box face plane keeps that axis unconstrained, as it should).
+    inv: [Vec4; 3],
+    /// `1/d < 0` per axis: the box plane a ray meets first along that axis is then the max plane.
+    neg: [bool; 3],
+    /// `kz`, the axis of the largest |d| component; `(kx, ky, kz)` is the cyclic rotation of
     /// `(x, y, z)` ending in it. (The paper also swaps `kx`, `ky` when `d_kz < 0` to keep the winding;
     /// for a two-sided test that only negates all three edge functions and the determinant exactly,
     /// which changes no result.)
-    kz: u8,
-    /// Shear constants `(Sx, Sy, 0)` with `Sx = d_kx/d_kz`, `Sy = d_ky/d_kz`.
-    shear: Vec3A,
-    /// `Sz = 1/d_kz`.
-    sz: f32,
-    t_min: f32,
+    kz: usize,
+    /// Shear constants `Sx = d_kx/d_kz`, `Sy = d_ky/d_kz`, `Sz = 1/d_kz`.
+    sx: Vec4,
+    sy: Vec4,
+    sz: Vec4,
+    /// `max(t_min, 0)`.
+    t_min: Vec4,
 }
 
-impl Prepared {
-    fn new(ray: &Ray) -> Self {
-        let d = ray.dir;
-        // 1/0 and 1/subnormal become ±f32::MAX instead of ±∞, so `(plane − o)·inv` can never be 0·∞ = NaN
-        // (a ray lying in a box face plane keeps that axis unconstrained, as it should be).
+impl RayLanes {
+    /// The constants of `ray`, or `None` when it can hit nothing: a non-finite origin or direction, a
+    /// zero direction, or an empty (or NaN) segment `t_max < max(t_min, 0)`.
+    #[inline]
+    fn new(ray: &Ray) -> Option<Self> {
+        let (o, d) = (ray.origin, ray.dir);
+        let t_min = ray.t_min.max(0.0);
+        if !(o.is_finite() && d.is_finite() && d != Vec3::ZERO && ray.t_max >= t_min) {
+            return None;
+        }
         let inv_of = |x: f32| {
             let r = 1.0 / x;
             if r.is_finite() { r } else { f32::MAX.copysign(x) }
         };
-        let inv = Vec3A::new(inv_of(d.x), inv_of(d.y), inv_of(d.z));
+        let inv = [inv_of(d.x), inv_of(d.y), inv_of(d.z)];
         let a = d.abs();
         let kz = if a.x >= a.y && a.x >= a.z {
             0
@@ -180,69 +197,160 @@ impl Prepared {
             2
         };
         let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        let da = d.to_array();
-        Self {
-            o: Vec3A::from(ray.origin),
-            inv,
-            kz: kz as u8,
-            shear: Vec3A::new(da[kx] / da[kz], da[ky] / da[kz], 0.0),
-            sz: 1.0 / da[kz],
-            t_min: ray.t_min.max(0.0),
-        }
+        let (da, oa) = (d.to_array(), o.to_array());
+        Some(Self {
+            o: oa.map(Vec4::splat),
+            inv: inv.map(Vec4::splat),
+            neg: inv.map(|x| x < 0.0),
+            kz,
+            sx: Vec4::splat(da[kx] / da[kz]),
+            sy: Vec4::splat(da[ky] / da[kz]),
+            sz: Vec4::splat(1.0 / da[kz]),
+            t_min: Vec4::splat(t_min),
+        })
     }
 
-    /// The watertight test (Woop, Benthin & Wald 2013) for `t ∈ [t_min, t_max]`:
-    /// returns `(t, u, v)` with `u`, `v` the weights of `p1`, `p2`.
+    /// Bit mask of the four children whose box meets `[t_min, t_max]`, and their entry distances:
+    /// the slab test `t = (plane − o)·(1/d)` per axis, lane by lane, reading the near and far plane of
+    /// each axis by the sign of `1/d` (the same values as taking min and max of both planes, since
+    /// rounding is monotone). It is NaN-free (`1/d` is finite and non-zero, the planes finite or
+    /// ±∞), so plain SIMD min/max are exact. `t_max_m` is `t_max·BOX_MARGIN`; the far distance is
+    /// enlarged by the same factor (module docs). Unused lanes hold empty boxes (min +∞, max −∞), whose
+    /// near distance is +∞ and far −∞ whatever the ray, so they never pass.
     #[inline(always)]
-    fn triangle(&self, tri: &[Vec3; 3], t_max: f32) -> Option<(f32, f32, f32)> {
-        // Translate to the ray origin, rotate the axes to (kx, ky, kz) and shear (x, y) so the ray runs
-        // along +z through the origin: `(p_kx − Sx·p_kz, p_ky − Sy·p_kz, p_kz)`, lane-wise in SIMD.
-        let frame = |p: Vec3| {
-            let a = Vec3A::from(p) - self.o;
-            let a = match self.kz {
-                0 => a.yzx(),
-                1 => a.zxy(),
-                _ => a,
-            };
-            a - self.shear * a.z
+    fn boxes(&self, n: &Node4, t_max_m: Vec4) -> (u32, Vec4) {
+        let p = &n.planes;
+        let slab = |a: usize| {
+            let near = (p[usize::from(self.neg[a])][a] - self.o[a]) * self.inv[a];
+            let far = (p[usize::from(!self.neg[a])][a] - self.o[a]) * self.inv[a];
+            (near, far)
         };
-        let (a, b, c) = (frame(tri[0]), frame(tri[1]), frame(tri[2]));
-        let (ax, ay, bx, by, cx, cy) = (a.x, a.y, b.x, b.y, c.x, c.y);
-        // Scaled barycentrics = 2D edge functions.
-        let mut u = cx * by - cy * bx;
-        let mut v = ax * cy - ay * cx;
-        let mut w = bx * ay - by * ax;
-        // Exactly on an edge in f32: decide in f64, where these products are exact (the paper's fallback).
-        if u == 0.0 || v == 0.0 || w == 0.0 {
-            let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
-            u = (cx * by - cy * bx) as f32;
-            v = (ax * cy - ay * cx) as f32;
-            w = (bx * ay - by * ax) as f32;
+        let ((nx, fx), (ny, fy), (nz, fz)) = (slab(0), slab(1), slab(2));
+        let near = nx.max(ny).max(nz).max(self.t_min);
+        let far = (fx.min(fy).min(fz) * Vec4::splat(BOX_MARGIN)).min(t_max_m);
+        (near.cmple(far).bitmask(), near)
+    }
+}
+
+/// Four triangles in SoA form, `v[k][axis]` holding vertex `k`'s coordinate along `axis` for the four
+/// lanes (144 bytes), so that one watertight test checks four triangles at once. A leaf's last packet
+/// repeats its last triangle in the unused lanes: a repeated triangle gives the same answer with the
+/// same id, which changes neither any-hit nor closest-hit (ties go to the smaller id).
+#[derive(Debug, Clone, Copy)]
+#[repr(C)]
+struct Tri4 {
+    v: [[Vec4; 3]; 3],
+}
+
+impl Tri4 {
+    /// Pack 1 to 4 triangles (repeating the last one).
+    fn pack(tris: &[[Vec3; 3]]) -> Self {
+        let last = tris.len() - 1;
+        let mut a = [[[0f32; 4]; 3]; 3];
+        for lane in 0..4 {
+            let t = &tris[lane.min(last)];
+            for (k, p) in t.iter().enumerate() {
+                for axis in 0..3 {
+                    a[k][axis][lane] = p[axis];
+                }
+            }
         }
-        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
-            return None;
-        }
-        let det = u + v + w;
-        if det == 0.0 {
-            return None;
-        }
-        let (az, bz, cz) = (self.sz * a.z, self.sz * b.z, self.sz * c.z);
-        let t_scaled = u * az + v * bz + w * cz;
-        let inv_det = 1.0 / det;
-        let t = t_scaled * inv_det;
-        if !(t >= self.t_min && t <= t_max) {
-            return None;
-        }
-        Some((t, v * inv_det, w * inv_det))
+        Self { v: a.map(|k| k.map(Vec4::from_array)) }
+    }
+}
+
+/// What one four-lane triangle test found: the lanes in `mask` hit at `t`, with barycentric weights
+/// `v·inv_det` (second vertex) and `w·inv_det` (third vertex).
+struct Hits4 {
+    mask: u32,
+    t: Vec4,
+    inv_det: Vec4,
+    v: Vec4,
+    w: Vec4,
+}
+
+/// The watertight test (Woop, Benthin & Wald 2013) of four triangles for `t ∈ [t_min, t_max]`, with
+/// `KZ` = the ray's `kz` (a compile-time constant so the axis rotation costs nothing).
+///
+/// Each vertex is translated to the ray origin, its axes rotated to `(kx, ky, kz)` and `(x, y)`
+/// sheared so the ray runs along +z through the origin: `(p_kx − Sx·p_kz, p_ky − Sy·p_kz, p_kz)`. The
+/// scaled barycentrics are the 2D edge functions `U, V, W`; where one is exactly 0 in f32 the lane is
+/// decided in f64, where these products are exact (the paper's fallback). A lane hits when `U, V, W`
+/// do not have mixed signs, `det = U + V + W ≠ 0` and `t = (U·Sz·a_z + V·Sz·b_z + W·Sz·c_z)·(1/det)` is
+/// in range. Every step is one IEEE operation per lane in a fixed order (no FMA contraction in Rust),
+/// so each lane's answer is bit-identical to the same triangle tested in any other lane or alone
+/// ([`intersect_triangle`]).
+#[inline(always)]
+fn triangles4<const KZ: usize>(r: &RayLanes, p: &Tri4, t_max: Vec4) -> Hits4 {
+    let (kx, ky) = ((KZ + 1) % 3, (KZ + 2) % 3);
+    let vert = |k: usize| {
+        let x = p.v[k][kx] - r.o[kx];
+        let y = p.v[k][ky] - r.o[ky];
+        let z = p.v[k][KZ] - r.o[KZ];
+        (x - r.sx * z, y - r.sy * z, z)
+    };
+    let ((ax, ay, az), (bx, by, bz), (cx, cy, cz)) = (vert(0), vert(1), vert(2));
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    let zero = Vec4::ZERO;
+    let on_edge = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask();
+    if on_edge != 0 {
+        (u, v, w) = edges_f64(on_edge, [ax, ay, bx, by, cx, cy], (u, v, w));
+    }
+    let mixed =
+        (u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero)) & (u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero));
+    let det = u + v + w;
+    let mask = !mixed.bitmask() & det.cmpne(zero).bitmask();
+    if mask == 0 {
+        return Hits4 { mask, t: zero, inv_det: zero, v: zero, w: zero };
+    }
+    let t_scaled = u * (r.sz * az) + v * (r.sz * bz) + w * (r.sz * cz);
+    let inv_det = Vec4::ONE / det;
+    let t = t_scaled * inv_det;
+    let mask = mask & (t.cmpge(r.t_min) & t.cmple(t_max)).bitmask();
+    Hits4 { mask, t, inv_det, v, w }
+}
+
+/// The f64 re-evaluation of the edge functions `(U, V, W)` in the lanes of `lanes` (where one of them
+/// is exactly 0 in f32): with 24-bit inputs the f64 products and differences are exact, so the sign
+/// decides the edge case correctly, and adjacent triangles agree.
+#[cold]
+#[inline(never)]
+fn edges_f64(lanes: u32, xy: [Vec4; 6], uvw: (Vec4, Vec4, Vec4)) -> (Vec4, Vec4, Vec4) {
+    let xy = xy.map(|c| c.to_array());
+    let (mut u, mut v, mut w) = (uvw.0.to_array(), uvw.1.to_array(), uvw.2.to_array());
+    for lane in (0..4).filter(|l| lanes >> l & 1 != 0) {
+        let [ax, ay, bx, by, cx, cy] = xy.map(|c| f64::from(c[lane]));
+        u[lane] = (cx * by - cy * bx) as f32;
+        v[lane] = (ax * cy - ay * cx) as f32;
+        w[lane] = (bx * ay - by * ax) as f32;
+    }
+    (Vec4::from_array(u), Vec4::from_array(v), Vec4::from_array(w))
+}
+
+/// Run `triangles4` with the ray's `kz` as the compile-time constant.
+#[inline(always)]
+fn triangles4_any_kz(r: &RayLanes, p: &Tri4, t_max: Vec4) -> Hits4 {
+    match r.kz {
+        0 => triangles4::<0>(r, p, t_max),
+        1 => triangles4::<1>(r, p, t_max),
+        _ => triangles4::<2>(r, p, t_max),
     }
 }
 
 /// Intersect one ray with one triangle by the watertight test the BVH uses: `(t, u, v)` with `u`, `v`
 /// the barycentric weights of `tri[1]`, `tri[2]`, for `t ∈ [max(t_min,0), t_max]`; two-sided.
 ///
-/// This is the brute-force reference for the BVH queries (same arithmetic, so results agree exactly).
+/// This is the brute-force reference for the BVH queries (the same arithmetic in one lane, so
+/// results agree exactly).
 pub fn intersect_triangle(ray: &Ray, tri: &[Vec3; 3]) -> Option<(f32, f32, f32)> {
-    Prepared::new(ray).triangle(tri, ray.t_max)
+    let r = RayLanes::new(ray)?;
+    let h = triangles4_any_kz(&r, &Tri4::pack(std::slice::from_ref(tri)), Vec4::splat(ray.t_max));
+    (h.mask & 1 != 0).then(|| {
+        let (t, inv_det, v, w) = (h.t.x, h.inv_det.x, h.v.x, h.w.x);
+        (t, v * inv_det, w * inv_det)
+    })
 }
 
 /// Whether the BVH skips this triangle: zero area (`|e1 × e2| = 0` in f32) — it has no interior to hit.
@@ -394,10 +502,12 @@ pub struct Bvh {
     root: Aabb,
     /// Shape of the binary tree it was collapsed from.
     stats: BvhStats,
-    /// Triangles in leaf order.
-    tris: Vec<[Vec3; 3]>,
-    /// Original triangle id of each entry of `tris`.
-    ids: Vec<u32>,
+    /// Leaf triangles in packets of four (see [`Tri4`]), in depth-first leaf order.
+    packets: Vec<Tri4>,
+    /// Original triangle id of each lane of `packets`.
+    ids: Vec<[u32; 4]>,
+    /// Triangles in the tree (the input minus degenerate ones).
+    triangles: usize,
     input_triangles: usize,
 }
 
@@ -518,8 +628,9 @@ impl Bvh {
                 wide: vec![Node4::EMPTY],
                 root: Aabb::EMPTY,
                 stats: BvhStats::default(),
-                tris: Vec::new(),
+                packets: Vec::new(),
                 ids: Vec::new(),
+                triangles: 0,
                 input_triangles: n,
             });
         }
@@ -529,17 +640,23 @@ impl Bvh {
         let sub = build_sub(&mut refs, 0, 0, root_bounds);
         place(sub, 0, &mut nodes, true);
         let stats = binary_stats(&nodes);
-        let mut wide: Vec<Node4> = Vec::new();
-        wide.try_reserve_exact(nodes.len() / 2 + 1).map_err(|_| too_big("node array"))?;
-        collapse(&nodes, 0, &mut wide);
         let root = Aabb { min: nodes[0].min(), max: nodes[0].max() };
-        drop(nodes);
         let mut tris: Vec<[Vec3; 3]> = Vec::new();
         tris.try_reserve_exact(refs.len()).map_err(|_| too_big("triangle array"))?;
         tris.par_extend(refs.par_iter().map(|r| tri(r.idx() as usize)));
-        let ids = refs.iter().map(|r| r.idx()).collect();
+        let ids: Vec<u32> = refs.iter().map(|r| r.idx()).collect();
+        drop(refs);
+        // Exactly one packet per started group of four triangles in each leaf.
+        let n_packets: usize = nodes.iter().map(|nd| (nd.count() as usize).div_ceil(4)).sum();
+        let mut out =
+            WideOut { tris: &tris, ids: &ids, wide: Vec::new(), packets: Vec::new(), packet_ids: Vec::new() };
+        out.wide.try_reserve_exact(nodes.len() / 2 + 1).map_err(|_| too_big("node array"))?;
+        out.packets.try_reserve_exact(n_packets).map_err(|_| too_big("triangle array"))?;
+        out.packet_ids.try_reserve_exact(n_packets).map_err(|_| too_big("triangle array"))?;
+        collapse(&nodes, 0, &mut out);
+        let WideOut { wide, packets, packet_ids, .. } = out;
         let stats = BvhStats { nodes: wide.len(), ..stats };
-        Ok(Self { wide, root, stats, tris, ids, input_triangles: n })
+        Ok(Self { wide, root, stats, packets, ids: packet_ids, triangles: tris.len(), input_triangles: n })
     }
 
     /// Number of triangles in the input (including skipped ones).
@@ -549,12 +666,12 @@ impl Bvh {
 
     /// Number of triangles in the tree (the input minus degenerate ones).
     pub fn triangle_count(&self) -> usize {
-        self.tris.len()
+        self.triangles
     }
 
     /// Number of degenerate (zero-area) input triangles that were skipped.
     pub fn skipped_triangles(&self) -> usize {
-        self.input_triangles - self.tris.len()
+        self.input_triangles - self.triangles
     }
 
     /// Number of (4-wide) nodes in the flat array.
@@ -570,7 +687,7 @@ impl Bvh {
     /// The largest coordinate magnitude in the scene box (0 for an empty tree), the scale that
     /// self-intersection offsets must exceed.
     pub fn coordinate_scale(&self) -> f32 {
-        if self.tris.is_empty() {
+        if self.triangles == 0 {
             return 0.0;
         }
         let (lo, hi) = self.bounds();
@@ -584,32 +701,49 @@ impl Bvh {
 
     /// The closest hit on the segment, or `None` (ties: see the module docs).
     pub fn closest_hit(&self, ray: &Ray) -> Option<Hit> {
-        let pre = Prepared::new(ray);
-        let w = Wide::new(&pre);
-        let mut best_t = ray.t_max;
+        let r = RayLanes::new(ray)?;
+        match r.kz {
+            0 => self.closest_hit_k::<0>(&r, ray.t_max),
+            1 => self.closest_hit_k::<1>(&r, ray.t_max),
+            _ => self.closest_hit_k::<2>(&r, ray.t_max),
+        }
+    }
+
+    fn closest_hit_k<const KZ: usize>(&self, r: &RayLanes, t_max: f32) -> Option<Hit> {
+        let mut best_t = t_max;
         let mut best: Option<Hit> = None;
-        // Entries: (child, count, entry distance); count > 0 marks a leaf.
-        let mut stack = Stack::new((0u32, 0u32, 0f32));
-        while let Some((child, count, dist)) = stack.pop() {
+        // Entries: (child code, entry distance).
+        let mut stack = Stack::new((0u32, f32::NEG_INFINITY));
+        while let Some((code, dist)) = stack.pop() {
             if dist > best_t * BOX_MARGIN {
                 continue;
             }
-            if count > 0 {
-                let first = child as usize;
-                for i in first..first + count as usize {
-                    if let Some((t, u, v)) = pre.triangle(&self.tris[i], best_t) {
-                        let id = self.ids[i];
+            if code & LEAF != 0 {
+                for k in leaf_packets(code) {
+                    let h = triangles4::<KZ>(r, &self.packets[k], Vec4::splat(best_t));
+                    let mut bits = h.mask;
+                    if bits == 0 {
+                        continue;
+                    }
+                    let (t, inv_det, v, w) =
+                        (h.t.to_array(), h.inv_det.to_array(), h.v.to_array(), h.w.to_array());
+                    while bits != 0 {
+                        let lane = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let (t, id) = (t[lane], self.ids[k][lane]);
                         // Smallest t; equal t → smallest id (independent of traversal order).
                         if best.is_none_or(|b| t < b.t || (t == b.t && id < b.triangle)) {
                             best_t = t;
+                            let (u, v) = (v[lane] * inv_det[lane], w[lane] * inv_det[lane]);
                             best = Some(Hit { t, triangle: id, u, v });
                         }
                     }
                 }
                 continue;
             }
-            let node = &self.wide[child as usize];
-            let (mask, near) = w.test(node, best_t);
+            let node = &self.wide[code as usize];
+            let (mask, near) = r.boxes(node, Vec4::splat(best_t * BOX_MARGIN));
+            let near = near.to_array();
             // Push the hit children farthest first, so the nearest is popped next.
             let mut order = [(0f32, 0usize); 4];
             let mut k = 0;
@@ -627,7 +761,7 @@ impl Bvh {
                 k += 1;
             }
             for &(d, lane) in &order[..k] {
-                stack.push((node.child[lane], node.count[lane], d));
+                stack.push((node.child[lane], d));
             }
         }
         best
@@ -635,25 +769,33 @@ impl Bvh {
 
     /// Whether anything is hit on the segment (shadow and visibility rays); stops at the first hit.
     pub fn any_hit(&self, ray: &Ray) -> bool {
-        let pre = Prepared::new(ray);
-        let w = Wide::new(&pre);
-        let t_max = ray.t_max;
-        let mut stack = Stack::new((0u32, 0u32));
-        while let Some((child, count)) = stack.pop() {
-            if count > 0 {
-                let first = child as usize;
-                if self.tris[first..first + count as usize].iter().any(|t| pre.triangle(t, t_max).is_some()) {
-                    return true;
-                }
-                continue;
-            }
-            let node = &self.wide[child as usize];
-            let (mask, _) = w.test(node, t_max);
-            let mut bits = mask;
+        let Some(r) = RayLanes::new(ray) else { return false };
+        match r.kz {
+            0 => self.any_hit_k::<0>(&r, ray.t_max),
+            1 => self.any_hit_k::<1>(&r, ray.t_max),
+            _ => self.any_hit_k::<2>(&r, ray.t_max),
+        }
+    }
+
+    fn any_hit_k<const KZ: usize>(&self, r: &RayLanes, t_max: f32) -> bool {
+        let (t_max_v, t_max_m) = (Vec4::splat(t_max), Vec4::splat(t_max * BOX_MARGIN));
+        // Any order finds a hit if there is one, so children are visited in lane order, leaves at
+        // once (the cheapest chance to stop) and interior nodes through the stack.
+        let mut stack = Stack::new(0u32);
+        while let Some(code) = stack.pop() {
+            let node = &self.wide[code as usize];
+            let (mut bits, _) = r.boxes(node, t_max_m);
             while bits != 0 {
                 let lane = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                stack.push((node.child[lane], node.count[lane]));
+                let child = node.child[lane];
+                if child & LEAF == 0 {
+                    stack.push(child);
+                } else if leaf_packets(child)
+                    .any(|k| triangles4::<KZ>(r, &self.packets[k], t_max_v).mask != 0)
+                {
+                    return true;
+                }
             }
         }
         false
@@ -676,7 +818,7 @@ impl Bvh {
     }
 
     fn batch<T: Send + Copy + Default>(&self, rays: &[Ray], f: impl Fn(&Ray) -> T + Sync + Send) -> Vec<T> {
-        if rays.len() <= COHERENT_BATCH || self.tris.is_empty() {
+        if rays.len() <= COHERENT_BATCH || self.triangles == 0 {
             return rays.par_iter().with_min_len(256).map(f).collect();
         }
         let (lo, hi) = (self.root.min, self.root.max);
@@ -715,81 +857,56 @@ fn spread_bits(x: u32) -> u64 {
     x
 }
 
-/// Four children's boxes in SoA layout (one `Vec4` per bound and axis, 128 bytes in all) so that one
-/// node test checks four boxes with a handful of SIMD operations. Child `i` is a leaf when
-/// `count[i] > 0` (triangles `child[i] .. child[i] + count[i]`), an interior node `child[i]` when
-/// `count[i] == 0`; lanes `len..4` are unused.
+/// Marks a leaf in a child code: bits 28–30 hold the number of packets minus one, bits 0–27 the first
+/// packet. Without it the code is the index of a [`Node4`].
+const LEAF: u32 = 1 << 31;
+/// Shift of the packet count in a leaf code.
+const PACKETS_SHIFT: u32 = 28;
+/// Bits of the first packet (or node index) in a child code.
+const INDEX_MASK: u32 = (1 << PACKETS_SHIFT) - 1;
+// A leaf of up to MAX_LEAF triangles must fit in the 8 packets a code can count, and every packet and
+// node index (each at most the number of triangles) in 28 bits.
+const _: () = assert!(MAX_LEAF <= 32 && MAX_ELEMENTS <= 1 << PACKETS_SHIFT);
+
+/// The packet indices of a leaf code.
+#[inline(always)]
+fn leaf_packets(code: u32) -> std::ops::Range<usize> {
+    let first = (code & INDEX_MASK) as usize;
+    first..first + ((code >> PACKETS_SHIFT) & 7) as usize + 1
+}
+
+/// Four children's boxes in SoA layout, `planes[0][axis]` their minima and `planes[1][axis]` their
+/// maxima along `axis` (one `Vec4` each), so one node test checks four boxes with a few SIMD
+/// operations; and the four child codes (an interior [`Node4`] index, or a [`LEAF`] code). 112 bytes,
+/// aligned to 64 so a node spans exactly two cache lines. Unused lanes hold the empty box.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(64))]
 struct Node4 {
-    min_x: Vec4,
-    min_y: Vec4,
-    min_z: Vec4,
-    max_x: Vec4,
-    max_y: Vec4,
-    max_z: Vec4,
+    planes: [[Vec4; 3]; 2],
     child: [u32; 4],
-    count: [u32; 4],
-    len: u32,
 }
 
 impl Node4 {
-    const EMPTY: Self = Self {
-        min_x: Vec4::ZERO,
-        min_y: Vec4::ZERO,
-        min_z: Vec4::ZERO,
-        max_x: Vec4::ZERO,
-        max_y: Vec4::ZERO,
-        max_z: Vec4::ZERO,
-        child: [0; 4],
-        count: [0; 4],
-        len: 0,
-    };
+    const EMPTY: Self = Self { planes: [[Vec4::INFINITY; 3], [Vec4::NEG_INFINITY; 3]], child: [LEAF; 4] };
 }
 
-/// Per-ray constants of the 4-wide box test.
-struct Wide {
-    o: [Vec4; 3],
-    inv: [Vec4; 3],
-    t_min: Vec4,
+/// Where the collapse writes: 4-wide nodes, triangle packets and their ids.
+struct WideOut<'a> {
+    /// Triangles in leaf order (as the binary leaves index them) and their original ids.
+    tris: &'a [[Vec3; 3]],
+    ids: &'a [u32],
+    wide: Vec<Node4>,
+    packets: Vec<Tri4>,
+    packet_ids: Vec<[u32; 4]>,
 }
 
-impl Wide {
-    #[inline(always)]
-    fn new(pre: &Prepared) -> Self {
-        let (o, inv) = (pre.o, pre.inv);
-        Self {
-            o: [Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z)],
-            inv: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
-            t_min: Vec4::splat(pre.t_min),
-        }
-    }
-
-    /// Bit mask of the children whose box meets `[t_min, t_max]`, and their entry distances: the slab
-    /// test `t = (plane − o)·(1/d)` per axis, lane by lane. It is NaN-free (`1/d` is finite, see
-    /// [`Prepared::new`]), so plain SIMD min/max are exact; the far distance and `t_max` are enlarged
-    /// by [`BOX_MARGIN`].
-    #[inline(always)]
-    fn test(&self, n: &Node4, t_max: f32) -> (u32, [f32; 4]) {
-        let tx1 = (n.min_x - self.o[0]) * self.inv[0];
-        let tx2 = (n.max_x - self.o[0]) * self.inv[0];
-        let ty1 = (n.min_y - self.o[1]) * self.inv[1];
-        let ty2 = (n.max_y - self.o[1]) * self.inv[1];
-        let tz1 = (n.min_z - self.o[2]) * self.inv[2];
-        let tz2 = (n.max_z - self.o[2]) * self.inv[2];
-        let near = tx1.min(tx2).max(ty1.min(ty2)).max(tz1.min(tz2)).max(self.t_min);
-        let far = tx1.max(tx2).min(ty1.max(ty2)).min(tz1.max(tz2)).min(Vec4::splat(t_max)) * BOX_MARGIN;
-        let mask = near.cmple(far).bitmask() & ((1u32 << n.len) - 1);
-        (mask, near.to_array())
-    }
-}
-
-/// Collapse the binary subtree at `i` into 4-wide nodes appended to `wide`; returns the index of the
-/// wide node made for `i`. Children are opened largest surface area first until there are four (or
-/// only leaves), the usual BVH2 → BVH4 collapse (Wald et al. 2008, "Getting rid of packets").
-fn collapse(nodes: &[Node], i: usize, wide: &mut Vec<Node4>) -> u32 {
-    let at = wide.len();
-    wide.push(Node4::EMPTY);
+/// Collapse the binary subtree at `i` into 4-wide nodes appended to `out.wide`; returns the index of
+/// the wide node made for `i`. Children are opened largest surface area first until there are four
+/// (or only leaves), the usual BVH2 → BVH4 collapse (Wald et al. 2008, "Getting rid of packets").
+/// Leaves become runs of triangle packets, written in depth-first order.
+fn collapse(nodes: &[Node], i: usize, out: &mut WideOut) -> u32 {
+    let at = out.wide.len();
+    out.wide.push(Node4::EMPTY);
     let mut buf = [0usize; 4];
     let mut len = if nodes[i].count() > 0 {
         buf[0] = i;
@@ -818,27 +935,34 @@ fn collapse(nodes: &[Node], i: usize, wide: &mut Vec<Node4>) -> u32 {
     }
     let kids = &buf[..len];
     let mut w = Node4::EMPTY;
-    w.len = kids.len() as u32;
-    let (mut lo, mut hi) = ([[0f32; 4]; 3], [[0f32; 4]; 3]);
+    let mut planes = [[[f32::INFINITY; 4]; 3], [[f32::NEG_INFINITY; 4]; 3]];
     for (lane, &k) in kids.iter().enumerate() {
         let (mn, mx) = (nodes[k].min(), nodes[k].max());
         for a in 0..3 {
-            lo[a][lane] = mn[a];
-            hi[a][lane] = mx[a];
+            planes[0][a][lane] = mn[a];
+            planes[1][a][lane] = mx[a];
         }
-        if nodes[k].count() > 0 {
-            w.child[lane] = nodes[k].first();
-            w.count[lane] = nodes[k].count();
+        let count = nodes[k].count() as usize;
+        if count > 0 {
+            let first = nodes[k].first() as usize;
+            let start = out.packets.len();
+            for s in (first..first + count).step_by(4) {
+                let e = (s + 4).min(first + count);
+                out.packets.push(Tri4::pack(&out.tris[s..e]));
+                let ids = &out.ids[s..e];
+                out.packet_ids.push(std::array::from_fn(|l| ids[l.min(ids.len() - 1)]));
+            }
+            let n = (out.packets.len() - start) as u32;
+            w.child[lane] = LEAF | (n - 1) << PACKETS_SHIFT | start as u32;
         }
     }
-    (w.min_x, w.min_y, w.min_z) = (Vec4::from(lo[0]), Vec4::from(lo[1]), Vec4::from(lo[2]));
-    (w.max_x, w.max_y, w.max_z) = (Vec4::from(hi[0]), Vec4::from(hi[1]), Vec4::from(hi[2]));
+    w.planes = planes.map(|b| b.map(Vec4::from_array));
     for (lane, &k) in kids.iter().enumerate() {
         if nodes[k].count() == 0 {
-            w.child[lane] = collapse(nodes, k, wide);
+            w.child[lane] = collapse(nodes, k, out);
         }
     }
-    wide[at] = w;
+    out.wide[at] = w;
     at as u32
 }
 
