@@ -11,6 +11,8 @@
 //! run time; both versions perform the same IEEE operations (no fused multiply-add), so the bits do
 //! not depend on the CPU either, and they equal [`Model::eval`]/[`Model::shade`] on each sample.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -139,14 +141,36 @@ impl<'a> Directions<'a> {
     /// The geometry of elements `start .. end` (at most `F::LANES`, padded) and the lanes where it
     /// exists.
     #[inline(always)]
-    fn lanes<F: Lane>(&self, start: usize, end: usize) -> (LaneGeometry<F>, F::Mask) {
-        LaneGeometry::new(
-            self.l.lanes(start, end),
-            self.v.lanes(start, end),
-            self.n.lanes(start, end),
-            self.t.map(|t| t.lanes(start, end)),
-        )
+    fn lanes<F: Lane>(&self, start: usize, end: usize, bad: Option<&BadRows>) -> (LaneGeometry<F>, F::Mask) {
+        let (l, v, n) = (self.l.lanes(start, end), self.v.lanes(start, end), self.n.lanes(start, end));
+        let t = self.t.map(|t| t.lanes(start, end));
+        if let Some(bad) = bad {
+            let inputs = [(self.l, Some(l)), (self.v, Some(v)), (self.n, Some(n))];
+            for (k, (b, x)) in inputs.into_iter().chain(self.t.map(|b| (b, t))).enumerate() {
+                let Some(x) = x else { continue };
+                let finite = x.is_finite();
+                if !F::mask_all(finite) {
+                    // Rare: find the lane (padding repeats the last row, so it is a real one).
+                    let j = (0..F::LANES).find(|&j| !F::mask_lane(finite, j)).unwrap_or(0);
+                    let row = if b.data.len() == 1 { 0 } else { start + j };
+                    bad[k].fetch_min(row, Ordering::Relaxed);
+                }
+            }
+        }
+        LaneGeometry::new(l, v, n, t)
     }
+}
+
+/// The lowest row of each input (l, v, n, tangent) found to hold a non-finite value.
+type BadRows = [AtomicUsize; 4];
+
+/// A non-finite input value found by [`evaluate_checked`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NonFinite {
+    /// The argument: "l", "v", "n" or "tangent".
+    pub name: &'static str,
+    /// Its lowest row holding a NaN or an infinity (0 for a broadcast input).
+    pub row: usize,
 }
 
 /// Run `body(offset, chunk)` over `out` in fixed chunks, in parallel when large enough.
@@ -158,15 +182,22 @@ pub fn for_each_chunk<T: Send>(out: &mut [T], body: impl Fn(usize, &mut [T]) + S
     }
 }
 
-fn run<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, out: &mut [Vec3]) {
-    for_each_chunk(out, |offset, chunk| run_chunk(m, dirs, q, offset, chunk));
+fn run<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, out: &mut [Vec3], bad: Option<&BadRows>) {
+    for_each_chunk(out, |offset, chunk| run_chunk(m, dirs, q, offset, chunk, bad));
 }
 
 /// One chunk, eight samples at a time: in one AVX register each where the CPU has AVX2 (run-time
 /// detection, [`crate::simd`]), else in [`F32x8`] (two SSE registers). Same operations, same bits.
 #[inline]
-fn run_chunk<M: Bxdf>(m: &M, dirs: &Directions<'_>, q: Quantity, offset: usize, out: &mut [Vec3]) {
-    let k = ChunkKernel { m, dirs, q, offset, out };
+fn run_chunk<M: Bxdf>(
+    m: &M,
+    dirs: &Directions<'_>,
+    q: Quantity,
+    offset: usize,
+    out: &mut [Vec3],
+    bad: Option<&BadRows>,
+) {
+    let k = ChunkKernel { m, dirs, q, offset, out, bad };
     #[cfg(target_arch = "x86_64")]
     let Some(k) = crate::simd::dispatch_avx2(k) else { return };
     k.run::<F32x8>();
@@ -179,16 +210,18 @@ struct ChunkKernel<'a, 'b, M> {
     q: Quantity,
     offset: usize,
     out: &'a mut [Vec3],
+    /// Where to record non-finite inputs (`None`: no check).
+    bad: Option<&'a BadRows>,
 }
 
 impl<M: Bxdf> LaneKernel for ChunkKernel<'_, '_, M> {
     /// Evaluate `out[k]` for element `offset + k`, `F::LANES` samples at a time.
     #[inline(always)]
     fn run<F: Lane>(self) {
-        let Self { m, dirs, q, offset, out } = self;
+        let Self { m, dirs, q, offset, out, bad } = self;
         for (k, group) in out.chunks_mut(F::LANES).enumerate() {
             let start = offset + k * F::LANES;
-            let (g, valid) = dirs.lanes::<F>(start, start + group.len());
+            let (g, valid) = dirs.lanes::<F>(start, start + group.len(), bad);
             let value = match q {
                 Quantity::Brdf => eval_model_lanes(m, &g, valid),
                 Quantity::Shade => shade_model_lanes(m, &g, valid),
@@ -208,12 +241,13 @@ struct Run<'a, 'b> {
     dirs: &'a Directions<'b>,
     q: Quantity,
     out: &'a mut [Vec3],
+    bad: Option<&'a BadRows>,
 }
 
 impl ModelVisitor for Run<'_, '_> {
     type Output = ();
     fn visit<M: Bxdf>(self, m: &M) {
-        run(m, self.dirs, self.q, self.out);
+        run(m, self.dirs, self.q, self.out, self.bad);
     }
 }
 
@@ -221,7 +255,29 @@ impl ModelVisitor for Run<'_, '_> {
 ///
 /// Zero-length or non-finite directions give 0. `out.len()` must be the batch length.
 pub fn evaluate(model: &Model, dirs: &Directions<'_>, q: Quantity, out: &mut [Vec3]) {
-    model.visit(Run { dirs, q, out });
+    model.visit(Run { dirs, q, out, bad: None });
+}
+
+/// [`evaluate`], refusing non-finite input: every component of every input row is checked in the same
+/// pass, on the values already loaded into lanes (no second pass over memory). On a NaN or an
+/// infinity it returns the first argument in the order l, v, n, tangent that holds one, with its
+/// lowest row; `out` is then fully written but meaningless. The result does not depend on the
+/// thread count.
+pub fn evaluate_checked(
+    model: &Model,
+    dirs: &Directions<'_>,
+    q: Quantity,
+    out: &mut [Vec3],
+) -> Result<(), NonFinite> {
+    let bad: BadRows = std::array::from_fn(|_| AtomicUsize::new(usize::MAX));
+    model.visit(Run { dirs, q, out, bad: Some(&bad) });
+    for (b, name) in bad.iter().zip(["l", "v", "n", "tangent"]) {
+        let row = b.load(Ordering::Relaxed);
+        if row != usize::MAX {
+            return Err(NonFinite { name, row });
+        }
+    }
+    Ok(())
 }
 
 /// Allocate and evaluate: convenience over [`evaluate`].
@@ -338,7 +394,7 @@ mod tests {
                         type Output = ();
                         fn visit<B: Bxdf>(self, m: &B) {
                             let Portable(dirs, q, out) = self;
-                            ChunkKernel { m, dirs, q, offset: 0, out }.run::<F32x8>();
+                            ChunkKernel { m, dirs, q, offset: 0, out, bad: None }.run::<F32x8>();
                         }
                     }
                     let mut portable = vec![Vec3::ZERO; n];
@@ -359,6 +415,35 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn evaluate_checked_names_the_first_argument_and_its_lowest_bad_row() {
+        let m = Model::build("cook_torrance", &[]).unwrap();
+        let n = 3 * PARALLEL_THRESHOLD + 5; // parallel, with a partial last group
+        let good = vec![Vec3::new(0.1, 0.2, 1.0); n];
+        let run = |l: &[Vec3], v: &[Vec3], t: Option<&[Vec3]>| {
+            let (d, len) = Directions::new(l, v, &[Vec3::Z], t).unwrap();
+            evaluate_checked(&m, &d, Quantity::Brdf, &mut vec![Vec3::ZERO; len])
+        };
+        assert_eq!(run(&good, &good, None), Ok(()));
+        let mut l = good.clone();
+        let mut v = good.clone();
+        l[40_000] = Vec3::new(0.0, f32::NAN, 1.0);
+        l[n - 1] = Vec3::new(f32::INFINITY, 0.0, 1.0);
+        v[7] = Vec3::new(0.0, 0.0, f32::NEG_INFINITY);
+        assert_eq!(run(&l, &v, None), Err(NonFinite { name: "l", row: 40_000 }));
+        assert_eq!(run(&good, &v, None), Err(NonFinite { name: "v", row: 7 }));
+        let mut t = good.clone();
+        t[n - 1].x = f32::NAN; // in the padded last group
+        assert_eq!(run(&good, &good, Some(&t)), Err(NonFinite { name: "tangent", row: n - 1 }));
+        assert_eq!(run(&good, &[Vec3::splat(f32::NAN)], None), Err(NonFinite { name: "v", row: 0 }));
+        // The values of finite rows are those of `evaluate`.
+        let (d, _) = Directions::new(&good, &good, &[Vec3::Z], None).unwrap();
+        let (mut a, mut b) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+        evaluate(&m, &d, Quantity::Shade, &mut a);
+        evaluate_checked(&m, &d, Quantity::Shade, &mut b).unwrap();
+        assert_eq!(a, b);
     }
 
     #[test]

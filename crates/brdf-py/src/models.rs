@@ -1,7 +1,7 @@
 //! `Model`: a registry model as a Python object with batch `eval` and `shade`; the registry's specs as
 //! Python dicts.
 
-use brdf_core::batch::{Directions, Quantity, evaluate};
+use brdf_core::batch::{Directions, Quantity, evaluate_checked};
 use brdf_core::{Input, ModelSpec, ParamKind, ParamSpec, Params, Value};
 use glam::Vec3;
 use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
@@ -271,19 +271,14 @@ impl Model {
                 let k = chunk.len();
                 let (cl, cv, cn) = (part(ls, offset, k), part(vs, offset, k), part(ns, offset, k));
                 let ct = ts.map(|t| part(t, offset, k));
-                // Broadcast (length-1) inputs were checked once above.
-                for (name, s) in
-                    [("l", cl), ("v", cv), ("n", cn)].into_iter().chain(ct.map(|t| ("tangent", t)))
-                {
-                    if s.len() > 1 {
-                        check_vec3(name, s, offset)?;
-                    }
+                // Lengths are consistent by construction (checked above), so this cannot fail. The
+                // finiteness check runs inside the evaluation, on the rows already loaded (broadcast
+                // inputs were checked once above, so any row it reports is a chunk row).
+                match Directions::new(cl, cv, cn, ct) {
+                    Ok((dirs, _)) => evaluate_checked(model, &dirs, q, chunk)
+                        .map_err(|e| RowError::non_finite_row(e.name, offset + e.row)),
+                    Err(_) => Ok(()),
                 }
-                // Lengths are consistent by construction (checked above), so this cannot fail.
-                if let Ok((dirs, _)) = Directions::new(cl, cv, cn, ct) {
-                    evaluate(model, &dirs, q, chunk);
-                }
-                Ok(())
             })?;
         }
         Ok(out)

@@ -21,8 +21,8 @@
 use std::arch::x86_64::{
     __m128, __m256, _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ, _mm256_add_ps, _mm256_and_ps,
     _mm256_andnot_ps, _mm256_blendv_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
-    _mm256_extractf128_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set_m128, _mm256_shuffle_ps, _mm256_sqrt_ps,
-    _mm256_sub_ps, _mm256_xor_ps,
+    _mm256_extractf128_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set_m128,
+    _mm256_shuffle_ps, _mm256_sqrt_ps, _mm256_sub_ps, _mm256_xor_ps,
 };
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
@@ -166,6 +166,11 @@ impl Lane for Avx8 {
     #[inline(always)]
     fn mask_lane(m: AvxMask, i: usize) -> bool {
         bytemuck::cast::<__m256, [u32; 8]>(m.0)[i] != 0
+    }
+    #[inline(always)]
+    fn mask_all(m: AvxMask) -> bool {
+        // SAFETY: as above.
+        unsafe { _mm256_movemask_ps(m.0) == 0xff }
     }
     #[inline(always)]
     fn select(m: AvxMask, a: Self, b: Self) -> Self {

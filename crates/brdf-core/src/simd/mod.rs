@@ -78,6 +78,11 @@ pub trait Lane:
     fn mask_splat(b: bool) -> Self::Mask;
     /// Lane `i` of a mask.
     fn mask_lane(m: Self::Mask, i: usize) -> bool;
+    /// `true` when every lane of `m` is set.
+    #[inline(always)]
+    fn mask_all(m: Self::Mask) -> bool {
+        (0..Self::LANES).all(|i| Self::mask_lane(m, i))
+    }
     /// `a` where `m`, else `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
 
@@ -278,6 +283,10 @@ macro_rules! wide_lane {
                 m.0.as_array_ref()[i].to_bits() != 0
             }
             #[inline(always)]
+            fn mask_all(m: $m) -> bool {
+                m.0.all()
+            }
+            #[inline(always)]
             fn select(m: $m, a: Self, b: Self) -> Self {
                 // A blend on whole-lane masks: exact for every value, NaN payloads included.
                 m.0.blend(a, b)
@@ -339,6 +348,12 @@ impl<F: Lane> V3<F> {
     #[inline(always)]
     pub fn select(m: F::Mask, a: Self, b: Self) -> Self {
         Self { x: F::select(m, a.x, b.x), y: F::select(m, a.y, b.y), z: F::select(m, a.z, b.z) }
+    }
+
+    /// Lanes where all three components are finite.
+    #[inline(always)]
+    pub fn is_finite(self) -> F::Mask {
+        self.x.is_finite() & self.y.is_finite() & self.z.is_finite()
     }
 
     /// `v / |v|`, or zero where `|v|²` is 0 or not finite; the mask tells which lanes were normalised.
