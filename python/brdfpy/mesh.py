@@ -375,6 +375,16 @@ class Mesh:
         Only this mesh occludes (self-occlusion in object space). For occlusion by other objects use
         :meth:`brdfpy.RayCaster.obscurance` on the whole scene, or ``Scene.render(ao=...)``, which
         estimates ``w`` over the world-space scene.
+
+        Examples
+        --------
+        >>> cow = brdfpy.builtin_mesh("cow")
+        >>> w = cow.compute_obscurance(d_max=0.2, store=True)
+        >>> w.shape, w.dtype, bool(w.min() >= 0 and w.max() <= 1)
+        ((2904,), dtype('float32'), True)
+        >>> scene = brdfpy.Scene()
+        >>> inst = scene.add(cow, "lambert", ambient=0.3)  # the scene keeps the stored values
+        >>> img = scene.render(brdfpy.Camera.perspective((0, 0, 2)), 320, 240, ao={"stored": True})
         """
         if d_max is None:
             lo, hi = self.bounds()
