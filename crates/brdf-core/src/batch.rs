@@ -7,9 +7,10 @@
 //! Inside a chunk, samples go eight at a time through the model's lane form ([`Bxdf::f_lanes`],
 //! [`crate::simd`]): the AoS rows are transposed into eight-lane registers, normalised, evaluated and
 //! transposed back. The last, partial group is padded by repeating its last row, so every sample takes
-//! the same path. On x86-64 CPUs with AVX2 the loop is compiled a second time for AVX2 and chosen at
-//! run time; both versions perform the same IEEE operations (no fused multiply-add), so the bits do
-//! not depend on the CPU either, and they equal [`Model::eval`]/[`Model::shade`] on each sample.
+//! the same path. On x86-64 CPUs with AVX2 (detected at run time) the lanes are one AVX register,
+//! otherwise `wide`'s `f32x8`; both perform the same IEEE operations (no fused multiply-add), so the
+//! bits do not depend on the CPU either, and they equal [`Model::eval`]/[`Model::shade`] on each
+//! sample. [`evaluate_checked`] also checks the inputs for NaN/∞ on the rows already loaded.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

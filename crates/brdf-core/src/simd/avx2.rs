@@ -1,8 +1,8 @@
 //! Eight lanes in one AVX register, for CPUs that have AVX2 (checked at run time).
 //!
 //! [`wide::f32x8`] chooses its instructions when `wide` is compiled: without `-C target-feature=+avx`
-//! (the portable default) it is two SSE registers even inside an AVX2 function, which costs ~40 % of
-//! Cook–Torrance throughput (twice the instructions, register spills). This module gives the batch
+//! (the portable default) it is two SSE registers even inside an AVX2 function, which costs about a
+//! third of Cook–Torrance throughput (twice the instructions, register spills). This module gives the batch
 //! evaluator a lane type built on the AVX intrinsics themselves, used only behind run-time detection.
 //!
 //! # Soundness
