@@ -21,7 +21,18 @@ from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
 from brdfpy.camera import Camera
 from brdfpy.image import Image
 from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
-from brdfpy.mesh import BUILTIN_MESHES, Mesh, builtin_mesh, cube, icosphere, load_mesh, open_box, plane, torus
+from brdfpy.mesh import (
+    BUILTIN_MESHES,
+    Mesh,
+    builtin_mesh,
+    cube,
+    icosphere,
+    load_mesh,
+    open_box,
+    plane,
+    polygon_normal,
+    torus,
+)
 from brdfpy.models import Model, ModelInfo, ParamInfo, model, model_info, models
 from brdfpy.raycast import Hits, RayCaster
 from brdfpy.scene import Instance, Scene
@@ -57,6 +68,7 @@ __all__ = [
     "models",
     "open_box",
     "plane",
+    "polygon_normal",
     "set_num_threads",
     "tonemap",
     "torus",

@@ -25,6 +25,7 @@ __all__ = [
     "load_mesh",
     "open_box",
     "plane",
+    "polygon_normal",
     "torus",
 ]
 
@@ -493,6 +494,30 @@ def load_mesh(path: PathLike) -> Mesh:
     if os.path.isdir(p):
         raise IsADirectoryError(f"path: is a directory: {p!r}")
     return Mesh._wrap(_brdfpy.load_mesh(p))
+
+
+def polygon_normal(points: ArrayLike, method: str = "newell") -> NDArray[np.float32]:
+    """Normal of a planar or nearly planar polygon from its vertices in order (seed 004, "Normals").
+
+    Parameters
+    ----------
+    points : array_like, shape (K, 3), K >= 3
+        The vertices, counter-clockwise seen from the side the normal points to.
+    method : {"newell", "cross", "corner_average"}
+        ``"newell"``: Newell's method, ``n_x = Σ (y_i − y_{i+1})(z_i + z_{i+1})`` and cyclic; robust for
+        non-planar and non-convex polygons; its length is twice the polygon's area.
+        ``"cross"``: ``(p1 − p0) × (p2 − p0)``, the triangle normal at the first corner.
+        ``"corner_average"``: the mean of the unit corner normals ``(p_{i+1} − p_i) × (p_{i−1} − p_i)``.
+
+    Returns
+    -------
+    ndarray of float32, shape (3,)
+        The (unnormalised) normal.
+    """
+    a = np.asarray(points, dtype=np.float64)
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError(f"points: expected shape (K, 3), got {a.shape}")
+    return np.asarray(_brdfpy.polygon_normal(a.tolist(), method), dtype=np.float32)
 
 
 def builtin_mesh(name: str) -> Mesh:

@@ -36,7 +36,8 @@ mod _brdfpy {
     #[pymodule_export]
     use super::raster::{
         RasterCamera, RasterFrame, RasterLight, RasterMesh, builtin_mesh, builtin_mesh_names, cube,
-        icosphere, load_mesh, load_mesh_bytes, open_box, plane, raster_limits, render_scene, torus,
+        icosphere, load_mesh, load_mesh_bytes, open_box, plane, polygon_normal, raster_limits, render_scene,
+        torus,
     };
     #[pymodule_export]
     use super::raycast::{RayCaster, mesh_obscurance};

@@ -277,6 +277,31 @@ pub fn load_mesh_bytes(py: Python<'_>, data: Vec<u8>, format: &str) -> PyResult<
 }
 
 /// Names of the meshes embedded in the library.
+/// Normal of a polygon given by its vertices in order (seed 004 "Normals"): `method` is "newell"
+/// (Newell's method, unnormalised: twice the area vector), "cross" (cross product of the first two edges
+/// at vertex 0) or "corner_average" (mean of the unit corner normals).
+#[pyfunction]
+pub fn polygon_normal(points: Vec<[f32; 3]>, method: &str) -> PyResult<[f32; 3]> {
+    if points.len() < 3 {
+        return Err(invalid(format!("points: a polygon needs at least 3 vertices, got {}", points.len())));
+    }
+    let pts: Vec<Vec3> = points.iter().map(|p| Vec3::from_array(*p)).collect();
+    if let Some(i) = pts.iter().position(|p| !p.is_finite()) {
+        return Err(invalid(format!("points: vertex {i} is not finite")));
+    }
+    let n = match method.to_ascii_lowercase().as_str() {
+        "newell" => brdf_raster::normals::newell_normal(&pts),
+        "cross" => brdf_raster::normals::triangle_normal(pts[0], pts[1], pts[2]),
+        "corner_average" => brdf_raster::normals::corner_average_normal(&pts),
+        _ => {
+            return Err(invalid(format!(
+                "method: expected 'newell', 'cross' or 'corner_average', got {method:?}"
+            )));
+        }
+    };
+    Ok(n.to_array())
+}
+
 #[pyfunction]
 pub fn builtin_mesh_names() -> Vec<&'static str> {
     brdf_raster::io::BUILTIN_MESHES.to_vec()
