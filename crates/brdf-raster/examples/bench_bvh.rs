@@ -4,7 +4,7 @@
 //! 70k Stanford bunny subdivided 1→4 twice (~1.1M triangles, generated here, build time only).
 //!
 //! ```text
-//! cargo run --release -p brdf-raster --example bench_bvh [-- --quick] [--mesh horse] [--rays-only] [--threads 1]
+//! cargo run --release -p brdf-raster --example bench_bvh [-- --quick] [--mesh horse] [--rays-only] [--threads 1] [--reps 5] [--rays 50000]
 //! ```
 //!
 //! `BRDFPY_ASSETS=dir` overrides the mesh directory; `--mesh` keeps only meshes whose file name contains
@@ -124,8 +124,9 @@ fn main() {
         Some(t) => vec![t.parse().expect("--threads N")],
         None => vec![1, 2],
     };
-    let n_rays = if quick { 200_000 } else { 1_000_000 };
-    let reps = if quick { 1 } else { 3 };
+    let n_rays =
+        value("--rays").map_or(if quick { 200_000 } else { 1_000_000 }, |r| r.parse().expect("--rays N"));
+    let reps = value("--reps").map_or(if quick { 1 } else { 3 }, |r| r.parse().expect("--reps N"));
     println!("brdf-raster BVH benchmark ({n_rays} rays per query kind, best of {reps})");
     for name in ["cyberware_horse.ply", "newell_teapot_n96.ply", "stanford_bunny_70k.ply"] {
         if only.as_ref().is_some_and(|m| !name.contains(m.as_str())) {

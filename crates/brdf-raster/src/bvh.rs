@@ -12,9 +12,10 @@
 //!
 //! ## Build (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies")
 //! Top-down: each node bins its primitives' centroids into [`BINS`] bins along each axis, evaluates
-//! the SAH cost `C_trav + (A_L·N_L + A_R·N_R)/A` at the bin boundaries of all three axes and splits at
-//! the cheapest; it stops at a leaf when that is not cheaper than intersecting all of them (`N`) and
-//! there are at most [`MAX_LEAF`] triangles. Subtrees above [`PARALLEL_THRESHOLD`] triangles are built in
+//! the SAH cost `C_trav + (A_L·P(N_L) + A_R·P(N_R))/A` at the bin boundaries of all three axes and
+//! splits at the cheapest, where `P(N) = ⌈N/4⌉` counts the four-triangle packets a leaf of `N` is
+//! tested in (see Layout); it stops at a leaf when that is not cheaper than testing all of them
+//! (`P(N)`) and there are at most [`MAX_LEAF`] triangles. Subtrees above [`PARALLEL_THRESHOLD`] triangles are built in
 //! parallel with `rayon::join` on disjoint halves of the primitive array; the split decisions depend on
 //! the data only, so the tree is **the same whatever the number of threads**. Below depth
 //! [`SAH_DEPTH_LIMIT`] a node falls back to an object-median split, which bounds the depth (and the
@@ -65,15 +66,30 @@ pub const COHERENT_BATCH: usize = 4096;
 pub const SAH_DEPTH_LIMIT: usize = 48;
 /// Cost of one traversal step relative to one triangle test, in the SAH.
 const TRAVERSAL_COST: f32 = 1.0;
+/// Cost of testing one packet of four triangles, relative to one traversal step, in the SAH.
+const PACKET_COST: f32 = 1.0;
+
+/// SAH cost of a leaf of `n` triangles: one four-wide test per started packet of four (Embree's
+/// `Triangle4` cost model), so a leaf of 3 costs as much as a leaf of 4 and the build fills packets.
+#[inline]
+fn leaf_cost(n: u32) -> f32 {
+    n.div_ceil(4) as f32 * PACKET_COST
+}
 /// Traversal stack entries kept inline; deeper stacks spill to the heap. A wide node pushes at most 4
 /// entries after popping one, so a path of depth `D` keeps at most `3D + 1` entries; typical trees need
 /// far fewer than 64, and a small array is cheap to set up for every ray.
 const STACK: usize = 64;
+const _: () = assert!(STACK.is_power_of_two());
 
 /// A LIFO stack with [`STACK`] entries inline and a heap spill beyond (for pathological depths).
+///
+/// The hot paths only touch the inline array: a push onto a full array first moves its older half to
+/// the heap, a pop from an empty array first brings back the newest spilled half, so `len` is always
+/// below [`STACK`] between operations and `len & (STACK − 1)` indexes without a bounds check.
 struct Stack<T: Copy + Default> {
     inline: [T; STACK],
     len: usize,
+    /// Older entries, oldest first.
     spill: Vec<T>,
 }
 
@@ -86,23 +102,37 @@ impl<T: Copy + Default> Stack<T> {
     }
     #[inline(always)]
     fn push(&mut self, x: T) {
-        if self.len < STACK {
-            self.inline[self.len] = x;
-            self.len += 1;
-        } else {
-            self.spill.push(x);
+        if self.len == STACK {
+            self.spill_half();
         }
+        self.inline[self.len & (STACK - 1)] = x;
+        self.len += 1;
     }
     #[inline(always)]
     fn pop(&mut self) -> Option<T> {
-        if let Some(x) = self.spill.pop() {
-            return Some(x);
-        }
-        if self.len == 0 {
+        if self.len == 0 && !self.refill() {
             return None;
         }
         self.len -= 1;
-        Some(self.inline[self.len])
+        Some(self.inline[self.len & (STACK - 1)])
+    }
+    #[cold]
+    #[inline(never)]
+    fn spill_half(&mut self) {
+        self.spill.extend_from_slice(&self.inline[..STACK / 2]);
+        self.inline.copy_within(STACK / 2.., 0);
+        self.len = STACK / 2;
+    }
+    /// Bring back up to half a stack of spilled entries; false when there are none.
+    #[cold]
+    #[inline(never)]
+    fn refill(&mut self) -> bool {
+        let k = self.spill.len().min(STACK / 2);
+        let from = self.spill.len() - k;
+        self.inline[..k].copy_from_slice(&self.spill[from..]);
+        self.spill.truncate(from);
+        self.len = k;
+        k > 0
     }
 }
 /// Conservative enlargement of box far distances and of the `t_max` they are tested against (see the
@@ -818,38 +848,41 @@ impl Bvh {
     }
 
     fn batch<T: Send + Copy + Default>(&self, rays: &[Ray], f: impl Fn(&Ray) -> T + Sync + Send) -> Vec<T> {
-        if rays.len() <= COHERENT_BATCH || self.triangles == 0 {
+        if rays.len() <= COHERENT_BATCH || rays.len() > 1 << 32 || self.triangles == 0 {
             return rays.par_iter().with_min_len(256).map(f).collect();
         }
         let (lo, hi) = (self.root.min, self.root.max);
-        let scale =
-            Vec3A::select((hi - lo).cmpgt(Vec3A::ZERO), Vec3A::splat(1023.0) / (hi - lo), Vec3A::ZERO);
-        let mut keyed: Vec<(u64, u32)> = rays
+        let scale = Vec3A::select((hi - lo).cmpgt(Vec3A::ZERO), Vec3A::splat(511.0) / (hi - lo), Vec3A::ZERO);
+        // One u64 per ray: the 27-bit Morton code of its origin on a 512³ grid over the scene box and
+        // its direction octant in the high 32 bits, its index in the low 32. Sorting plain integers
+        // is several times cheaper than sorting (key, index) pairs, and the keys are unique (they end
+        // in the index), so the order is fully determined.
+        let mut keyed: Vec<u64> = rays
             .par_iter()
             .enumerate()
             .map(|(i, r)| {
-                let q = ((Vec3A::from(r.origin) - lo) * scale).clamp(Vec3A::ZERO, Vec3A::splat(1023.0));
+                let q = ((Vec3A::from(r.origin) - lo) * scale).clamp(Vec3A::ZERO, Vec3A::splat(511.0));
                 let m = spread_bits(q.x as u32) | spread_bits(q.y as u32) << 1 | spread_bits(q.z as u32) << 2;
                 let octant =
                     u64::from(r.dir.x < 0.0) | u64::from(r.dir.y < 0.0) << 1 | u64::from(r.dir.z < 0.0) << 2;
-                ((m << 3) | octant, i as u32)
+                ((m << 3) | octant) << 32 | i as u64
             })
             .collect();
-        // Keys are unique (they end in the ray index), so the order is fully determined.
         keyed.par_sort_unstable();
-        let sorted: Vec<T> = keyed.par_iter().with_min_len(256).map(|&(_, i)| f(&rays[i as usize])).collect();
+        let index = |k: u64| (k & 0xffff_ffff) as usize;
+        let sorted: Vec<T> = keyed.par_iter().with_min_len(256).map(|&k| f(&rays[index(k)])).collect();
         let mut out = vec![T::default(); rays.len()];
-        for (&(_, i), &v) in keyed.iter().zip(&sorted) {
-            out[i as usize] = v;
+        for (&k, &v) in keyed.iter().zip(&sorted) {
+            out[index(k)] = v;
         }
         out
     }
 }
 
-/// The 10 low bits of `x` spread to every third bit (Morton encoding).
+/// The 9 low bits of `x` spread to every third bit (Morton encoding).
 #[inline]
 fn spread_bits(x: u32) -> u64 {
-    let mut x = u64::from(x & 0x3ff);
+    let mut x = u64::from(x & 0x1ff);
     x = (x | x << 16) & 0x0300_00ff;
     x = (x | x << 8) & 0x0300_f00f;
     x = (x | x << 4) & 0x030c_30c3;
@@ -978,7 +1011,7 @@ fn binary_stats(nodes: &[Node]) -> BvhStats {
         if nd.count() > 0 {
             st.leaves += 1;
             st.max_leaf = st.max_leaf.max(nd.count() as usize);
-            st.sah_cost += rel * nd.count() as f64;
+            st.sah_cost += rel * leaf_cost(nd.count()) as f64;
         } else {
             st.sah_cost += rel * f64::from(TRAVERSAL_COST);
             stack.push((nd.first() as usize, depth + 1));
@@ -1107,7 +1140,7 @@ fn choose_split(refs: &mut [PrimRef], bb: &Bounds, depth: usize) -> Split {
         for i in (1..nb).rev() {
             acc = acc.merge(boxes[a][i]);
             cnt += counts[a][i];
-            right_cost[i] = if cnt > 0 { acc.half_area() * cnt as f32 } else { f32::INFINITY };
+            right_cost[i] = if cnt > 0 { acc.half_area() * leaf_cost(cnt) } else { f32::INFINITY };
         }
         let mut acc = Aabb::EMPTY;
         let mut cnt = 0u32;
@@ -1117,7 +1150,7 @@ fn choose_split(refs: &mut [PrimRef], bb: &Bounds, depth: usize) -> Split {
             if cnt == 0 || cnt as usize == n {
                 continue;
             }
-            let cost = acc.half_area() * cnt as f32 + right_cost[i + 1];
+            let cost = acc.half_area() * leaf_cost(cnt) + right_cost[i + 1];
             if cost < best.0 {
                 best = (cost, a, i);
             }
@@ -1129,7 +1162,7 @@ fn choose_split(refs: &mut [PrimRef], bb: &Bounds, depth: usize) -> Split {
         // Every centroid fell in one bin on every axis (extremely clustered): median split.
         return median(refs);
     }
-    if n <= MAX_LEAF && split_cost >= n as f32 {
+    if n <= MAX_LEAF && split_cost >= leaf_cost(n as u32) {
         return Split::Leaf;
     }
     // Partition in place by the chosen bin boundary (same binning arithmetic as above), gathering
@@ -1202,5 +1235,117 @@ mod tests {
         // Barycentrics reproduce the hit point.
         let p = tri[0] * (1.0 - h.u - h.v) + tri[1] * h.u + tri[2] * h.v;
         assert!(p.distance(Vec3::ZERO) < 1e-6, "{p}");
+    }
+
+    /// SplitMix64 uniforms in [lo, hi).
+    fn uniforms(seed: u64) -> impl FnMut(f32, f32) -> f32 {
+        let mut state = seed;
+        move |lo, hi| {
+            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            lo + (hi - lo) * ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    #[test]
+    fn stack_keeps_lifo_order_across_spills_and_refills() {
+        let mut s = Stack::new(0u32);
+        // Up and down twice past several spill boundaries, interleaving pushes and pops.
+        let mut model = vec![0u32];
+        for round in 0..2u32 {
+            for k in 1..=5 * STACK as u32 {
+                s.push(k + round * 1000);
+                model.push(k + round * 1000);
+                if k % 7 == 0 {
+                    assert_eq!(s.pop(), model.pop());
+                }
+            }
+            for _ in 0..3 * STACK {
+                assert_eq!(s.pop(), model.pop());
+            }
+        }
+        while let Some(x) = model.pop() {
+            assert_eq!(s.pop(), Some(x));
+        }
+        assert_eq!(s.pop(), None);
+    }
+
+    #[test]
+    fn each_packet_lane_answers_exactly_as_its_triangle_alone() {
+        let mut u = uniforms(17);
+        for _ in 0..2000 {
+            let tris: Vec<[Vec3; 3]> = (0..4)
+                .map(|_| {
+                    let c = Vec3::new(u(-1.0, 1.0), u(-1.0, 1.0), u(-1.0, 1.0));
+                    [0; 3].map(|_| c + Vec3::new(u(-0.7, 0.7), u(-0.7, 0.7), u(-0.7, 0.7)))
+                })
+                .collect();
+            let o = Vec3::new(u(-2.0, 2.0), u(-2.0, 2.0), u(-2.0, 2.0));
+            let ray =
+                Ray::segment(o, -o + Vec3::new(u(-1.0, 1.0), u(-1.0, 1.0), u(-1.0, 1.0)), 0.0, u(0.5, 3.0));
+            let r = RayLanes::new(&ray).unwrap();
+            let h = triangles4_any_kz(&r, &Tri4::pack(&tris), Vec4::splat(ray.t_max));
+            for (lane, tri) in tris.iter().enumerate() {
+                let packed = (h.mask >> lane & 1 != 0).then(|| {
+                    let (t, d, v, w) = (h.t[lane], h.inv_det[lane], h.v[lane], h.w[lane]);
+                    (t, v * d, w * d)
+                });
+                assert_eq!(packed, intersect_triangle(&ray, tri), "lane {lane}");
+            }
+        }
+    }
+
+    /// Möller–Trumbore in f64 (an independent formulation): `(t, u, v)` for a two-sided hit.
+    fn reference_f64(ray: &Ray, tri: &[Vec3; 3]) -> Option<(f64, f64, f64)> {
+        let [p0, p1, p2] = tri.map(|p| p.as_dvec3());
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        let (e1, e2) = (p1 - p0, p2 - p0);
+        let pv = d.cross(e2);
+        let det = e1.dot(pv);
+        if det == 0.0 {
+            return None;
+        }
+        let tv = o - p0;
+        let u = tv.dot(pv) / det;
+        let qv = tv.cross(e1);
+        let v = d.dot(qv) / det;
+        let t = e2.dot(qv) / det;
+        (u >= 0.0
+            && v >= 0.0
+            && u + v <= 1.0
+            && t >= f64::from(ray.t_min.max(0.0))
+            && t <= f64::from(ray.t_max))
+        .then_some((t, u, v))
+    }
+
+    #[test]
+    fn watertight_test_agrees_with_double_precision_moller_trumbore() {
+        let mut u = uniforms(23);
+        let (mut hits, mut checked) = (0, 0);
+        for _ in 0..20_000 {
+            let tri = [0; 3].map(|_| Vec3::new(u(-1.0, 1.0), u(-1.0, 1.0), u(-1.0, 1.0)));
+            let o = Vec3::new(u(-3.0, 3.0), u(-3.0, 3.0), u(-3.0, 3.0));
+            let ray = Ray::new(o, Vec3::new(u(-0.5, 0.5), u(-0.5, 0.5), u(-0.5, 0.5)) - o);
+            let want = reference_f64(&ray, &tri);
+            // Away from the edges (barycentrics ≥ 1e-4 from 0 and 1) both must agree on hit or miss.
+            let clear = want.is_none_or(|(_, a, b)| a.min(b).min(1.0 - a - b) > 1e-4);
+            let got = intersect_triangle(&ray, &tri);
+            if let (Some((t, a, b)), Some((tw, aw, bw))) = (got, want) {
+                assert!((f64::from(t) - tw).abs() <= 1e-5 * tw.max(1.0), "t {t} vs {tw}");
+                assert!((f64::from(a) - aw).abs() < 1e-5 && (f64::from(b) - bw).abs() < 1e-5, "uv");
+                hits += 1;
+            } else if clear && want.is_none() {
+                // A miss by a margin: the f32 test must miss too, unless the ray grazes an edge.
+                let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
+                let grazing = e1.cross(e2).normalize().dot(ray.dir.normalize()).abs() < 1e-3;
+                assert!(got.is_none() || grazing, "f32 hit where f64 misses: {ray:?} {tri:?}");
+            } else if clear {
+                assert!(got.is_some(), "f32 miss where f64 hits clearly: {ray:?} {tri:?}");
+            }
+            checked += 1;
+        }
+        assert!(hits > 500 && hits < checked, "{hits} of {checked}");
     }
 }
