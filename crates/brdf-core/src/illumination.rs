@@ -19,7 +19,7 @@ use glam::{Vec3, Vec3A};
 
 use crate::Geometry;
 use crate::lights::{Incident, Light};
-use crate::models::{Bxdf, Model, shade_model};
+use crate::models::{Bxdf, Model, ModelVisitor, shade_model};
 
 /// The material-side constants of the illumination model (all linear RGB).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,26 +73,30 @@ pub fn radiance<M: Bxdf>(
     c
 }
 
-/// [`radiance`] for a model chosen at run time (dispatches on every light; use
-/// [`Model::visit`] + [`radiance`] in hot loops).
+/// [`radiance`] for a model chosen at run time: one dispatch through [`Model::visit`], then the same
+/// code (use [`Model::visit`] around a whole loop of [`radiance`] calls in hot paths).
 pub fn radiance_dyn(
     model: &Model,
     terms: &Terms,
     lights: &[Light],
     s: &SurfacePoint,
     obscurance: f32,
-    mut visibility: impl FnMut(usize, &Incident) -> f32,
+    visibility: impl FnMut(usize, &Incident) -> f32,
 ) -> Vec3 {
-    let mut c = terms.emission + obscurance * terms.ambient * terms.ambient_light;
-    for (j, light) in lights.iter().enumerate() {
-        let Some(inc) = light.incident(s.p) else { continue };
-        let delta = visibility(j, &inc);
-        if delta <= 0.0 {
-            continue;
-        }
-        c += delta * inc.irradiance * model.shade(&geometry(inc.l, s));
+    struct Radiance<'a, F> {
+        terms: &'a Terms,
+        lights: &'a [Light],
+        s: &'a SurfacePoint,
+        obscurance: f32,
+        visibility: F,
     }
-    c
+    impl<F: FnMut(usize, &Incident) -> f32> ModelVisitor for Radiance<'_, F> {
+        type Output = Vec3;
+        fn visit<M: Bxdf>(self, m: &M) -> Vec3 {
+            radiance(m, self.terms, self.lights, self.s, self.obscurance, self.visibility)
+        }
+    }
+    model.visit(Radiance { terms, lights, s, obscurance, visibility })
 }
 
 #[inline]
