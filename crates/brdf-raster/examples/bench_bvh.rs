@@ -4,12 +4,12 @@
 //! 70k Stanford bunny subdivided 1→4 twice (~1.1M triangles, generated here, build time only).
 //!
 //! ```text
-//! cargo run --release -p brdf-raster --example bench_bvh [-- --quick] [--mesh horse] [--rays-only] [--threads 1] [--reps 5] [--rays 50000]
+//! cargo run --release -p brdf-raster --example bench_bvh [-- --quick] [--mesh horse] [--rays-only] [--threads 1] [--reps 5] [--rays 50000] [--unsorted]
 //! ```
 //!
 //! `BRDFPY_ASSETS=dir` overrides the mesh directory; `--mesh` keeps only meshes whose file name contains
 //! the given text; `--rays-only` skips the build and obscurance timings; `--threads` limits the thread
-//! counts timed (default 1 and 2).
+//! counts timed (default 1 and 2); `--unsorted` also times any-hit rays one by one in input order.
 //!
 //! Rays start at random points on random triangles, offset along the face normal, in cosine-weighted
 //! directions around it (the obscurance pattern); "unbounded" rays run to infinity, "AO" rays stop at
@@ -118,6 +118,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let quick = args.iter().any(|a| a == "--quick");
     let rays_only = args.iter().any(|a| a == "--rays-only");
+    let unsorted = args.iter().any(|a| a == "--unsorted");
     let value = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1)).cloned();
     let only = value("--mesh");
     let thread_counts: Vec<usize> = match value("--threads") {
@@ -179,6 +180,16 @@ fn main() {
             }
             if let [one, two] = any_wall[..] {
                 println!("  {kind:>9} any-hit 2T/1T wall speed-up {:.2}x", one / two);
+            }
+            if unsorted {
+                // The same rays one by one in input order (no Morton sort): what the sort buys.
+                use rayon::prelude::*;
+                let (aw, ac) = time(1, reps, || rays.par_iter().map(|r| bvh.any_hit(r)).collect::<Vec<_>>());
+                println!(
+                    "  {kind:>9} 1T any-hit in input order: {:.2} M/s wall ({:.2} M/s per CPU-s)",
+                    m(n, aw),
+                    m(n, ac)
+                );
             }
         }
         if rays_only {
