@@ -66,6 +66,8 @@ pub const COHERENT_BATCH: usize = 4096;
 const SORT_GRID: u32 = 32;
 /// Number of sort keys.
 const SORT_BUCKETS: usize = (SORT_GRID * SORT_GRID * SORT_GRID) as usize;
+/// Sorted rays gathered and traced per block.
+const GATHER_BLOCK: usize = 512;
 /// Rays per chunk of the parallel counting sort.
 const SORT_CHUNK: usize = 1 << 16;
 /// Depth below which nodes are split at the object median instead of by SAH (bounds the tree depth).
@@ -907,7 +909,20 @@ impl Bvh {
         for (i, &p) in rank.iter().enumerate() {
             order[p as usize] = i as u32;
         }
-        let sorted: Vec<T> = order.par_iter().with_min_len(256).map(|&i| f(&rays[i as usize])).collect();
+        // Each block of sorted rays is first gathered into a local buffer: the gather's loads are
+        // independent, so their cache misses overlap, where a query that loads its own ray from a
+        // random place waits for it (a quarter of the time on a 1M-ray batch).
+        let mut sorted = vec![T::default(); rays.len()];
+        sorted.par_chunks_mut(GATHER_BLOCK).zip(order.par_chunks(GATHER_BLOCK)).for_each_init(
+            || Vec::with_capacity(GATHER_BLOCK),
+            |buf: &mut Vec<Ray>, (out, idx)| {
+                buf.clear();
+                buf.extend(idx.iter().map(|&i| rays[i as usize]));
+                for (o, r) in out.iter_mut().zip(buf.iter()) {
+                    *o = f(r);
+                }
+            },
+        );
         rank.par_iter().with_min_len(4096).map(|&p| sorted[p as usize]).collect()
     }
 }
