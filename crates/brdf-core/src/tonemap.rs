@@ -218,18 +218,31 @@ impl Operator {
     }
 }
 
-/// The smallest linear value that encodes to each 8-bit level `k = 1..=255` under
-/// `to_u8(srgb_encode_f32(c))`, found once by bisection over the f32 bit patterns of `[0, 1]`.
+/// Buckets of the direct-index table of [`srgb8_f32`]: `c ∈ [b/N, (b+1)/N)` lands in bucket `b`.
+const SRGB8_BUCKETS: usize = 4096;
+
+/// The tables behind [`srgb8_f32`].
+struct Srgb8Table {
+    /// `thresholds[k]`: the smallest linear value whose 8-bit level is `k + 1` or more under
+    /// `to_u8(srgb_encode_f32(c))`; `thresholds[255] = +∞` stops the search.
+    thresholds: [f32; 256],
+    /// `start[b]`: the level of `b / SRGB8_BUCKETS`, a lower bound of every level in bucket `b`.
+    start: [u8; SRGB8_BUCKETS + 1],
+}
+
+/// Built once by bisection over the f32 bit patterns of `[0, 1]`.
 ///
-/// Why: the `powf` of the OETF dominated the cost of writing an image (40–70 % of a 1080p frame);
-/// counting thresholds gives the same byte as the formula for every input, because the formula is
-/// non-decreasing in `c` (checked at every threshold and on random inputs by the tests).
-fn srgb8_thresholds() -> &'static [f32; 255] {
-    static TABLE: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+/// Why: the `powf` of the OETF (and then a binary search) dominated the cost of writing an image. The
+/// formula is non-decreasing in `c` (checked at every threshold and on a dense sweep by the tests), so
+/// the level of `c` is the number of thresholds `≤ c`: start from the level at the bucket's lower edge
+/// and step up. The steepest part of the curve (slope 12.92 · 255 levels per unit) moves less than one
+/// level per bucket, so the loop runs at most twice.
+fn srgb8_table() -> &'static Srgb8Table {
+    static TABLE: std::sync::OnceLock<Srgb8Table> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
         let level = |c: f32| to_u8(srgb_encode_f32(c));
-        let mut table = [0.0f32; 255];
-        for (k, t) in table.iter_mut().enumerate() {
+        let mut thresholds = [f32::INFINITY; 256];
+        for (k, t) in thresholds.iter_mut().take(255).enumerate() {
             let k = k as u8 + 1;
             // Non-negative f32 order like their bit patterns: bisect on the bits of [0, 1].
             let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
@@ -239,16 +252,27 @@ fn srgb8_thresholds() -> &'static [f32; 255] {
             }
             *t = f32::from_bits(lo);
         }
-        table
+        let mut start = [0u8; SRGB8_BUCKETS + 1];
+        for (b, s) in start.iter_mut().enumerate() {
+            let edge = b as f32 / SRGB8_BUCKETS as f32;
+            *s = thresholds.partition_point(|&t| t <= edge) as u8;
+        }
+        Srgb8Table { thresholds, start }
     })
 }
 
 /// `to_u8(srgb_encode_f32(c))` — linear value to its 8-bit sRGB level, bit-identical to the formula
-/// (clamp to `[0, 1]`, NaN → 0) but by a binary search in a 255-entry table instead of a `powf`.
+/// (clamp to `[0, 1]`, NaN → 0) but by two table look-ups instead of a `powf`.
 #[inline]
 pub fn srgb8_f32(c: f32) -> u8 {
     let c = clamp_f32(c);
-    srgb8_thresholds().partition_point(|&t| t <= c) as u8
+    let t = srgb8_table();
+    // c·N is exact (a power of two), so the bucket's lower edge b/N is ≤ c.
+    let mut k = usize::from(t.start[(c * SRGB8_BUCKETS as f32) as usize]);
+    while c >= t.thresholds[k] {
+        k += 1;
+    }
+    k as u8
 }
 
 /// One linear HDR colour to an 8-bit sRGB pixel: `to_u8(srgb_encode(op.apply(c)))` per channel.
@@ -279,7 +303,7 @@ mod tests {
     fn table_encoding_equals_the_formula() {
         let formula = |c: f32| to_u8(srgb_encode_f32(c));
         // At and just below every threshold: the level steps exactly there.
-        for (k, &t) in srgb8_thresholds().iter().enumerate() {
+        for (k, &t) in srgb8_table().thresholds[..255].iter().enumerate() {
             assert_eq!(formula(t), k as u8 + 1, "at threshold {k}");
             assert_eq!(srgb8_f32(t), k as u8 + 1);
             let below = f32::from_bits(t.to_bits() - 1);
