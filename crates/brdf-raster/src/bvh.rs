@@ -36,7 +36,8 @@
 //!
 //! ## Queries
 //! A ray is `origin + t·dir` for `t ∈ [max(t_min, 0), t_max]`; `dir` need not be unit (t is then in
-//! units of `|dir|`). Triangles are two-sided. The triangle test is the watertight one of Woop, Benthin
+//! units of `|dir|`); a non-finite origin or direction, a zero direction or an empty segment
+//! (`t_max < max(t_min, 0)`, or NaN) hits nothing. Triangles are two-sided. The triangle test is the watertight one of Woop, Benthin
 //! & Wald 2013 ("Watertight ray/triangle intersection", JCGT 2(1)): a ray through a shared edge or
 //! vertex of a closed mesh hits at least one of the triangles that share it, never slips between.
 //! Box tests are conservative: the far distance of a box, and the `t_max` it is tested against,
@@ -48,6 +49,11 @@
 //! **Ties.** The closest hit is the smallest `t`; among hits at exactly the same `t` (a ray through a
 //! shared edge), the one with the smallest original triangle id. So the answer does not depend on the
 //! traversal order and equals a brute-force loop using [`intersect_triangle`] with the same rule.
+//!
+//! **Batches.** [`Bvh::closest_hits`] and [`Bvh::any_hits`] answer each ray exactly as the single-ray
+//! queries do; large batches are traced in the Morton order of the rays' origin cells (a stable,
+//! parallel counting sort) and each block of sorted rays is copied together before it is traced, so
+//! that consecutive rays share cached nodes and no query waits for its own ray to arrive from memory.
 
 use glam::{Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
