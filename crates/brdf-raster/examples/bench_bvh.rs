@@ -67,6 +67,15 @@ fn time<T: Send>(threads: usize, reps: usize, f: impl Fn() -> T + Sync) -> (f64,
         .fold((f64::INFINITY, f64::INFINITY), |a, b| (a.0.min(b.0), a.1.min(b.1)))
 }
 
+/// The 1-minute load average (Linux `/proc/loadavg`), to judge how far wall times are from the
+/// machine's own speed: above the core count, other work shares the cores.
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(str::to_owned))
+        .unwrap_or_else(|| "unknown".into())
+}
+
 fn surface_rays(mesh: &Mesh, n: usize, t_max: f32, seed: u64) -> Vec<Ray> {
     let mut rng = Rng(seed);
     let (lo, hi) = bounds(mesh);
@@ -128,7 +137,11 @@ fn main() {
     let n_rays =
         value("--rays").map_or(if quick { 200_000 } else { 1_000_000 }, |r| r.parse().expect("--rays N"));
     let reps = value("--reps").map_or(if quick { 1 } else { 3 }, |r| r.parse().expect("--reps N"));
-    println!("brdf-raster BVH benchmark ({n_rays} rays per query kind, best of {reps})");
+    println!(
+        "brdf-raster BVH benchmark ({n_rays} rays per query kind, best of {reps}; {} cores, load average {})",
+        std::thread::available_parallelism().map_or(0, |n| n.get()),
+        load_average()
+    );
     for name in ["cyberware_horse.ply", "newell_teapot_n96.ply", "stanford_bunny_70k.ply"] {
         if only.as_ref().is_some_and(|m| !name.contains(m.as_str())) {
             continue;
@@ -213,4 +226,5 @@ fn main() {
             println!("  per-vertex obscurance 2T/1T wall speed-up {:.2}x", one / two);
         }
     }
+    println!("\nload average at the end: {}", load_average());
 }
