@@ -168,3 +168,23 @@ def model_defaults(name: str) -> dict[str, Any]:
     import brdfpy
 
     return {p["name"]: p["default"] for p in brdfpy.model_info(name)["params"]}
+
+
+#: Every model the registry must contain (SPEC rows 1-12), in registry order: tests parametrise over it,
+#: not over `brdfpy.models()`, so a model that goes missing fails instead of silently dropping its tests.
+REGISTRY_MODELS = [
+    "lambert",
+    "lambert_classic",
+    "oren_nayar",
+    "oren_nayar_full",
+    "toon",
+    "phong_classic",
+    "blinn_phong_classic",
+    "phong",
+    "blinn_phong",
+    "cook_torrance",
+    "strauss",
+    "ward",
+    "ashikhmin_shirley",
+    "lafortune",
+]

@@ -10,25 +10,10 @@ import brdfpy
 import numpy as np
 import pytest
 
+from conftest import REGISTRY_MODELS as MODELS
+
 GOOD = np.array([[0.0, 0.6, 0.8], [0.3, 0.0, 0.95]], np.float32)
 N = np.array([0.0, 0.0, 1.0], np.float32)
-
-MODELS = [
-    "lambert",
-    "lambert_classic",
-    "oren_nayar",
-    "oren_nayar_full",
-    "toon",
-    "phong_classic",
-    "blinn_phong_classic",
-    "phong",
-    "blinn_phong",
-    "cook_torrance",
-    "strauss",
-    "ward",
-    "ashikhmin_shirley",
-    "lafortune",
-]
 
 
 def names(arg: str) -> str:

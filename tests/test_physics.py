@@ -13,6 +13,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from conftest import REGISTRY_MODELS as ALL_MODELS
 from conftest import gauss_legendre01, hemisphere, unit
 
 Z = np.array([0.0, 0.0, 1.0])
@@ -313,23 +314,6 @@ def test_oren_nayar_backscatters_more_than_lambert() -> None:
 
 
 # ------------------------------------------------------------------------------------ positivity
-
-ALL_MODELS = [
-    "lambert",
-    "lambert_classic",
-    "oren_nayar",
-    "oren_nayar_full",
-    "toon",
-    "phong_classic",
-    "blinn_phong_classic",
-    "phong",
-    "blinn_phong",
-    "cook_torrance",
-    "strauss",
-    "ward",
-    "ashikhmin_shirley",
-    "lafortune",
-]
 
 
 @pytest.mark.parametrize("name", ALL_MODELS)
