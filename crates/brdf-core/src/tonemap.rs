@@ -236,7 +236,7 @@ struct Srgb8Table {
 /// formula is non-decreasing in `c` (checked at every threshold and on a dense sweep by the tests), so
 /// the level of `c` is the number of thresholds `≤ c`: start from the level at the bucket's lower edge
 /// and step up. The steepest part of the curve (slope 12.92 · 255 levels per unit) moves less than one
-/// level per bucket, so the loop runs at most twice.
+/// level per bucket, so one comparison finishes it.
 fn srgb8_table() -> &'static Srgb8Table {
     static TABLE: std::sync::OnceLock<Srgb8Table> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
@@ -257,6 +257,11 @@ fn srgb8_table() -> &'static Srgb8Table {
             let edge = b as f32 / SRGB8_BUCKETS as f32;
             *s = thresholds.partition_point(|&t| t <= edge) as u8;
         }
+        // The single comparison in `srgb8_f32` relies on this: a bucket spans at most one level step.
+        assert!(
+            start.windows(2).all(|w| w[1] - w[0] <= 1),
+            "sRGB table: a bucket spans two level boundaries; use more buckets"
+        );
         Srgb8Table { thresholds, start }
     })
 }
@@ -268,11 +273,10 @@ pub fn srgb8_f32(c: f32) -> u8 {
     let c = clamp_f32(c);
     let t = srgb8_table();
     // c·N is exact (a power of two), so the bucket's lower edge b/N is ≤ c.
-    let mut k = usize::from(t.start[(c * SRGB8_BUCKETS as f32) as usize]);
-    while c >= t.thresholds[k] {
-        k += 1;
-    }
-    k as u8
+    let k = usize::from(t.start[(c * SRGB8_BUCKETS as f32) as usize]);
+    // At most one level boundary lies inside a bucket (checked when the table is built), so one
+    // branch-free comparison finishes the search.
+    (k + usize::from(c >= t.thresholds[k])) as u8
 }
 
 /// One linear HDR colour to an 8-bit sRGB pixel: `to_u8(srgb_encode(op.apply(c)))` per channel.
