@@ -26,19 +26,6 @@ __all__ = ["main"]
 _COMMANDS = ("gallery", "render")
 
 
-def _parse_value(text: str) -> Any:
-    """A ``--param`` value: true/false, a number, comma-separated numbers, or a name."""
-    low = text.strip().lower()
-    if low in ("true", "false"):
-        return low == "true"
-    parts = [p.strip() for p in text.split(",")]
-    try:
-        numbers = [float(p) for p in parts]
-    except ValueError:
-        return text.strip()
-    return numbers[0] if len(numbers) == 1 else numbers
-
-
 def _parse_params(items: Sequence[str]) -> dict[str, dict[str, Any]]:
     out: dict[str, dict[str, Any]] = {}
     for item in items:
@@ -48,7 +35,7 @@ def _parse_params(items: Sequence[str]) -> dict[str, dict[str, Any]]:
             raise ValueError(
                 f"--param: expected MODEL.KEY=VALUE (e.g. cook_torrance.roughness=0.1), got {item!r}"
             )
-        out.setdefault(name, {})[param] = _parse_value(value)
+        out.setdefault(name, {})[param] = render_cmd.parse_value(value)
     return out
 
 

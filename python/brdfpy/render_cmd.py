@@ -71,7 +71,8 @@ def parse_light(text: str) -> Light:
     )
 
 
-def _parse_value(text: str) -> Any:
+def parse_value(text: str) -> Any:
+    """A ``--param`` value: true/false, a number, comma-separated numbers, or a name."""
     low = text.strip().lower()
     if low in ("true", "false"):
         return low == "true"
@@ -90,7 +91,7 @@ def parse_params(items: list[str]) -> dict[str, Any]:
         key, sep, value = item.partition("=")
         if not sep or not key.strip():
             raise ValueError(f"--param: expected KEY=VALUE (e.g. roughness=0.2), got {item!r}")
-        out[key.strip()] = _parse_value(value)
+        out[key.strip()] = parse_value(value)
     return out
 
 
