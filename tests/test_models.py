@@ -10,7 +10,15 @@ import brdfpy
 import numpy as np
 import pytest
 
-from conftest import MIN_COMPARED, RTOL, assert_close, model_defaults, random_geometry, well_conditioned
+from conftest import (
+    MIN_COMPARED,
+    MIN_HALF,
+    assert_close,
+    model_defaults,
+    random_geometry,
+    unit,
+    well_conditioned,
+)
 from oracle import models as om
 
 N_SAMPLES = 4000
@@ -120,7 +128,9 @@ def test_model_matches_oracle(
     got = getattr(model, quantity)(**geo)
     assert got.dtype == np.float32 and got.shape == (N_SAMPLES, 3)
     assert np.all(np.isfinite(got)), f"{name}: non-finite output"
-    mask = well_conditioned(oracle, geo, rng, want)
+    # Cook-Torrance is accurate for nearly opposite l, v too (conftest docstring): nothing is left out
+    # beyond the conditioning filter.
+    mask = well_conditioned(oracle, geo, rng, want, min_half=0.0 if name == "cook_torrance" else MIN_HALF)
     assert mask.mean() >= MIN_COMPARED, f"only {mask.mean():.1%} of samples are well conditioned"
     assert_close(got, want, mask, what=f"{name} {quantity} {over}")
 
@@ -258,29 +268,68 @@ def test_shade_is_eval_times_cosine_for_physical_models(name: str, rng: np.rando
         assert np.all(f[nl <= 0] == 0)
 
 
-@pytest.mark.parametrize("distribution", ["ggx", "beckmann"])
+def _nearly_opposite_lobe(rng: np.random.Generator, count: int, alpha: float) -> dict[str, np.ndarray]:
+    """Unit l, v around random normals with ``l + v = 2a h``: h within 3 alpha of n (through the lobe),
+    ``|l + v| = 2a`` log-uniform in [0.002, 0.25], and ``l - v`` tilted out of the tangent plane by at most
+    0.8 of what keeps both above it (so n.l, n.v >= ~0.1 a)."""
+    n = unit(rng.normal(size=(count, 3)))
+    helper = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    t = unit(np.cross(helper, n))
+    b = np.cross(n, t)
+    th = np.sqrt(rng.uniform(0, 1, count)) * 3 * alpha
+    ph = rng.uniform(0, 2 * np.pi, count)
+    sin_th = np.sin(th)[:, None]
+    h = sin_th * (np.cos(ph)[:, None] * t + np.sin(ph)[:, None] * b) + np.cos(th)[:, None] * n
+    a = 0.5 * np.exp(rng.uniform(np.log(0.002), np.log(0.25), count))
+    c = np.sqrt(1 - a * a)
+    u0 = unit(np.cross(h, n))  # perpendicular to h, in the tangent plane
+    w = np.cross(h, u0)  # perpendicular to h and u0; n.w = -sin(th)
+    tilt = rng.uniform(-0.8, 0.8, count) * a * np.cos(th) / c  # wanted n.u
+    k = np.clip(tilt / np.sum(w * n, axis=-1), -1, 1)
+    u = u0 * np.sqrt(1 - k * k)[:, None] + w * k[:, None]
+    l = a[:, None] * h + c[:, None] * u
+    v = a[:, None] * h - c[:, None] * u
+    return {"l": l.astype(np.float32), "v": v.astype(np.float32), "n": n.astype(np.float32)}
+
+
+@pytest.mark.parametrize("alpha", [0.05, 0.1, 0.3])
+@pytest.mark.parametrize(
+    "over",
+    [
+        {"distribution": "ggx"},
+        {"distribution": "beckmann"},
+        {"distribution": "gaussian"},
+        {"distribution": "blinn_phong"},
+        {"distribution": "ggx", "masking": "v_groove"},
+        {"distribution": "beckmann", "masking": "kelemen"},
+    ],
+    ids=lambda o: "-".join(o.values()),
+)
 def test_nearly_opposite_grazing_directions_stay_accurate(
-    distribution: str, rng: np.random.Generator
+    over: dict[str, Any], alpha: float, rng: np.random.Generator
 ) -> None:
-    """Light and viewer both grazing, on opposite sides (|l + v| < MIN_HALF): the half vector is
-    ill-determined in float32 (see conftest), so the main comparison leaves these out. Here the typical
-    (median) sample must still match to RTOL and the worst to 10 % (measured: ~3 % at |l + v| ~ 0.01,
-    from float32 cancellation in h; a formula slip moves every sample, and the median with it)."""
-    count = 4000
-    n = np.tile([0.0, 0.0, 1.0], (count, 1))
-    theta = np.deg2rad(rng.uniform(84, 89.9, (2, count)))
-    phi = rng.uniform(0, 2 * np.pi, count)
-    dphi = np.pi + rng.normal(scale=0.05, size=count)
-    l = np.stack([np.sin(theta[0]) * np.cos(phi), np.sin(theta[0]) * np.sin(phi), np.cos(theta[0])], -1)
-    v = np.stack(
-        [np.sin(theta[1]) * np.cos(phi + dphi), np.sin(theta[1]) * np.sin(phi + dphi), np.cos(theta[1])], -1
-    )
-    geo = {"l": l.astype(np.float32), "v": v.astype(np.float32), "n": n.astype(np.float32)}
-    over = {"distribution": distribution, "roughness": 0.3}
+    """Light and viewer both grazing, on opposite sides (|l + v| < MIN_HALF), with h through the lobe.
+    What float32 cannot avoid there is the rounding of the unit l and v (~1e-7), which turns h by
+    ~1e-7/|l + v| rad; D's slope on the lobe's flank makes that ~2e-6/|l + v| relative at alpha = 0.05
+    (measured: the float64 oracle on the float32-normalised inputs moves by up to 1.4e-4 at
+    |l + v| = 0.01, 1.8e-3 at 0.001). So each sample must match to ``4e-6/min(|l + v|, 0.01)``: 4e-4 for
+    |l + v| >= 0.01, 2e-3 at 0.002 (Cook-Torrance measured within 2e-4 and 8e-4, at most 0.55 of the
+    bound, Beckmann at alpha = 0.05 the worst; the earlier form from ``2 + 2 l.v`` was off by up to 160 %
+    at |l + v| ~ 0.01 and 100x below 0.003)."""
+    geo = _nearly_opposite_lobe(rng, 4000, alpha)
+    g64 = {k: a.astype(np.float64) for k, a in geo.items()}
+    half = np.linalg.norm(unit(g64["l"]) + unit(g64["v"]), axis=-1)
+    assert half.max() < MIN_HALF
+    over = {**over, "roughness": alpha}
     params = _params("cook_torrance", over)
-    want = om.evaluate("cook_torrance", params, **{k: a.astype(np.float64) for k, a in geo.items()})
+    want = om.evaluate("cook_torrance", params, **g64)
     got = brdfpy.model("cook_torrance", **over).eval(**geo).astype(np.float64)
-    np.testing.assert_allclose(got, want, rtol=0.1, atol=1e-5 * want.max())
-    significant = want > 1e-3 * want.max()
-    rel = np.abs(got[significant] - want[significant]) / want[significant]
-    assert np.median(rel) < RTOL, np.median(rel)
+    assert np.all(want[:, 0] > 0), "every sample is above the surface and inside the lobe's support"
+    rtol = 4e-6 / np.minimum(half, 0.01)
+    err = np.abs(got - want)
+    bad = ~(err <= rtol[:, None] * want + 1e-6 * want.max())
+    worst = np.argmax(np.where(bad, err / want, 0).max(axis=1))
+    assert not bad.any(), (
+        f"{bad.any(axis=1).sum()} samples off; worst: |l+v| = {half[worst]:.3g}, "
+        f"got {got[worst]}, want {want[worst]}"
+    )

@@ -12,7 +12,7 @@
 
 use glam::Vec3A;
 
-use crate::microfacet::ALPHA_MIN;
+use crate::microfacet::{ALPHA_MIN, HalfVector};
 
 /// Isotropic Beckmann `D` [1/sr] at `cos_h` = n·h, roughness α = RMS slope (clamped to ≥
 /// [`ALPHA_MIN`]); 0 for `cos_h ≤ 0`.
@@ -26,6 +26,27 @@ pub fn d(cos_h: f32, alpha: f32) -> f32 {
     let c2 = (cos_h * cos_h).min(1.0);
     let tan2 = (1.0 - c2) / c2;
     (-tan2 / a2).exp() * std::f32::consts::FRAC_1_PI / (a2 * c2 * c2)
+}
+
+/// Isotropic Beckmann `D` [1/sr] from the un-normalised half vector `h̃ = l + v` ([`HalfVector`]):
+/// `exp(−tan²θ/α²)/(π α² cos⁴θ)` with `tan²θ = |h̃⊥|²/(n·h̃)²` and `1/cos²θ = |h̃|²/(n·h̃)²` — the same
+/// function as [`d`], with no `1 − cos²θ` (accurate for nearly opposite `l`, `v`; see
+/// [`crate::microfacet::half`]). 0 for `n·h̃ ≤ 0` and where the exponential underflows.
+#[inline]
+pub fn d_half(h: &HalfVector<f32>, alpha: f32) -> f32 {
+    if !(h.n_dot > 0.0) {
+        return 0.0;
+    }
+    let a = alpha.max(ALPHA_MIN);
+    let a2 = a * a;
+    let hn2 = h.n_dot * h.n_dot;
+    let e = h.perp2 / (a2 * hn2); // tan²θ/α²
+    // e^{−104} is below f32's smallest subnormal: D is 0 there, and 1/cos⁴θ may be huge (0 · ∞).
+    if !(e < 104.0) {
+        return 0.0;
+    }
+    let sec2 = h.len2 / hn2; // 1/cos²θ
+    (-e).exp() * std::f32::consts::FRAC_1_PI / a2 * (sec2 * sec2)
 }
 
 /// Anisotropic Beckmann `D` [1/sr] for a unit local half vector (z = normal, x = tangent):

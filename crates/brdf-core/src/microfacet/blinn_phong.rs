@@ -6,7 +6,7 @@
 //! Walter et al. 2007 relate the exponent to Beckmann's roughness by `m = 2/α² − 2`
 //! ([`exponent_from_alpha`]); the same relation gives a Smith Λ for this D (see `masking`).
 
-use crate::microfacet::ALPHA_MIN;
+use crate::microfacet::{ALPHA_MIN, HalfVector};
 
 /// Largest exponent used: the one of [`ALPHA_MIN`] (`2/α² − 2 ≈ 2e8`); keeps `(m+2)/(2π)` finite and
 /// consistent with the roughness floor of the other distributions.
@@ -21,6 +21,22 @@ pub fn d(cos_h: f32, exponent: f32) -> f32 {
     }
     let m = exponent.clamp(0.0, EXPONENT_MAX);
     (m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI) * cos_h.min(1.0).powf(m)
+}
+
+/// Blinn–Phong `D` [1/sr] from the un-normalised half vector `h̃ = l + v` ([`HalfVector`]):
+/// `(n·h)^m = (1 + tan²θ)^{−m/2} = exp(−(m/2) ln(1 + tan²θ))` with `tan²θ = |h̃⊥|²/(n·h̃)²` — the same
+/// function as [`d`], but `ln_1p` of an accurate `tan²θ` does not amplify the rounding of `n·h` by the
+/// exponent m (up to ~800 at α = 0.05) as `powf(n·h, m)` does (and see [`crate::microfacet::half`]).
+/// 0 for `n·h̃ ≤ 0`.
+#[inline]
+pub fn d_half(h: &HalfVector<f32>, exponent: f32) -> f32 {
+    if !(h.n_dot > 0.0) {
+        return 0.0;
+    }
+    let m = exponent.clamp(0.0, EXPONENT_MAX);
+    // m = 0 is the uniform (n·h)⁰ = 1, also where tan²θ = ∞ (0 · ∞ would be NaN).
+    let power = if m == 0.0 { 1.0 } else { (-0.5 * m * h.tan2().ln_1p()).exp() };
+    (m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI) * power
 }
 
 /// Walter et al. 2007 §5.2: the Blinn–Phong exponent equivalent to Beckmann roughness α,

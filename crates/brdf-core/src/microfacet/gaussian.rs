@@ -12,7 +12,7 @@
 //! integrand is below e^{−144} beyond 12m) with 2048 intervals: relative error < 1e−9, far below
 //! f32. For small m, `c → 1/(π m²)`: the Gaussian and Beckmann distributions agree for small slopes.
 
-use crate::microfacet::ALPHA_MIN;
+use crate::microfacet::{ALPHA_MIN, HalfVector};
 
 /// Normalisation constant `c(m)` [1/sr] of the Gaussian distribution (see the module docs).
 /// `m` is clamped to ≥ [`ALPHA_MIN`].
@@ -43,6 +43,20 @@ pub fn d_with_normalization(cos_h: f32, m: f32, c: f32) -> f32 {
     c * (-(theta / m) * (theta / m)).exp()
 }
 
+/// Gaussian `D` [1/sr] from the un-normalised half vector `h̃ = l + v` ([`HalfVector`]) given
+/// `c` = [`normalization`]`(m)`: `c · exp(−(θ_h/m)²)` with `θ_h = atan2(|h̃⊥|, n·h̃)` — the same
+/// function as [`d_with_normalization`], but `atan2` keeps full precision near θ_h = 0 where
+/// `acos(cos θ_h)` loses half the digits (and see [`crate::microfacet::half`]). 0 for `n·h̃ ≤ 0`.
+#[inline]
+pub fn d_half_with_normalization(h: &HalfVector<f32>, m: f32, c: f32) -> f32 {
+    if !(h.n_dot > 0.0) {
+        return 0.0;
+    }
+    let m = m.max(ALPHA_MIN);
+    let theta = h.perp2.sqrt().atan2(h.n_dot);
+    c * (-(theta / m) * (theta / m)).exp()
+}
+
 /// Gaussian `D` [1/sr] at `cos_h` for roughness `m` [rad]. Computes `c(m)` by quadrature on every
 /// call (≈ 2000 exponentials): for many samples build a [`Gaussian`] once instead.
 pub fn d(cos_h: f32, m: f32) -> f32 {
@@ -70,5 +84,11 @@ impl Gaussian {
     #[inline]
     pub fn d(&self, cos_h: f32) -> f32 {
         d_with_normalization(cos_h, self.m, self.c)
+    }
+
+    /// `D` [1/sr] from the un-normalised half vector (see [`d_half_with_normalization`]).
+    #[inline]
+    pub fn d_half(&self, h: &HalfVector<f32>) -> f32 {
+        d_half_with_normalization(h, self.m, self.c)
     }
 }

@@ -9,7 +9,7 @@
 
 use glam::Vec3A;
 
-use crate::microfacet::ALPHA_MIN;
+use crate::microfacet::{ALPHA_MIN, HalfVector};
 use crate::simd::Lane;
 
 /// Isotropic GGX `D` [1/sr] at `cos_h` = n·h for roughness α (clamped to ≥ [`ALPHA_MIN`]);
@@ -30,6 +30,28 @@ pub fn d_lanes<F: Lane>(cos_h: F, alpha: f32) -> F {
     let t = (F::splat(1.0) - c2) + F::splat(a2) * c2;
     let d = F::splat(a2 * std::f32::consts::FRAC_1_PI) / (t * t);
     F::select(cos_h.gt(F::splat(0.0)), d, F::splat(0.0))
+}
+
+/// Isotropic GGX `D` [1/sr] from the un-normalised half vector `h̃ = l + v` ([`HalfVector`]):
+/// `cos⁴θ (α² + tan²θ)² = ((n·h̃)² α² + |h̃⊥|²)² / |h̃|⁴`, so
+/// `D = α² |h̃|⁴ / (π (α² (n·h̃)² + |h̃⊥|²)²)` — the same function as [`d`], with no `1 − cos²θ`
+/// (accurate for nearly opposite `l`, `v`; see [`crate::microfacet::half`]). 0 for `n·h̃ ≤ 0`.
+#[inline]
+pub fn d_half(h: &HalfVector<f32>, alpha: f32) -> f32 {
+    d_half_lanes(h, alpha)
+}
+
+/// [`d_half`] on lanes (the one place its formula is written; see [`crate::simd`]).
+#[inline(always)]
+pub fn d_half_lanes<F: Lane>(h: &HalfVector<F>, alpha: f32) -> F {
+    let a2 = {
+        let a = alpha.max(ALPHA_MIN);
+        a * a
+    };
+    let t = F::splat(a2) * (h.n_dot * h.n_dot) + h.perp2;
+    let q = h.len2 / t; // 1/(cos²θ (α² + tan²θ))
+    let d = F::splat(a2 * std::f32::consts::FRAC_1_PI) * (q * q);
+    F::select(h.n_dot.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 
 /// Anisotropic GGX `D` [1/sr] for a unit half vector in the local frame (x = tangent, z = normal):

@@ -24,11 +24,13 @@ pub mod beckmann;
 pub mod blinn_phong;
 pub mod gaussian;
 pub mod ggx;
+pub mod half;
 pub mod ward;
 
 use glam::Vec3A;
 
 pub use gaussian::Gaussian;
+pub use half::HalfVector;
 
 use crate::BrdfError;
 use crate::frame::ShadingFrame;
@@ -249,6 +251,32 @@ impl Distribution {
         }
     }
 
+    /// `D` [1/sr] from the un-normalised half vector `h̃ = l + v` (isotropic models; anisotropic
+    /// distributions at φ_h = 0 as in [`Distribution::d_cos`]). The same function as `d_cos(n·h)`,
+    /// written so that it keeps its precision where `l` and `v` are nearly opposite
+    /// ([`crate::microfacet::half`]).
+    #[inline]
+    pub fn d_half(&self, h: &HalfVector<f32>) -> f32 {
+        match *self {
+            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
+                beckmann::d_half(h, alpha_x)
+            }
+            Distribution::Ggx { alpha_x, .. } => ggx::d_half(h, alpha_x),
+            Distribution::Gaussian(g) => g.d_half(h),
+            Distribution::BlinnPhong { exponent } => blinn_phong::d_half(h, exponent),
+            Distribution::AshikhminShirley { nu, .. } => blinn_phong::d_half(h, nu),
+        }
+    }
+
+    /// [`Distribution::d_half`] on lanes: GGX in its wide form, the others lane by lane.
+    #[inline(always)]
+    pub fn d_half_lanes<F: Lane>(&self, h: &HalfVector<F>) -> F {
+        match *self {
+            Distribution::Ggx { alpha_x, .. } => ggx::d_half_lanes(h, alpha_x),
+            _ => F::from_fn(|i| self.d_half(&h.lane(i))),
+        }
+    }
+
     /// `D` [1/sr] for world-space unit `h` and normal `n`, with an optional tangent (an arbitrary
     /// frame is built from `n` without one). Convenience for batch/Python evaluation.
     pub fn d_world(&self, h: Vec3A, n: Vec3A, tangent: Option<Vec3A>) -> f32 {
@@ -392,6 +420,23 @@ impl Mixture {
         let mut sum = F::splat(lobes[0].0) * lobes[0].1.d_cos_lanes(cos_h);
         for (w, d) in &lobes[1..] {
             sum = sum + F::splat(*w) * d.d_cos_lanes(cos_h);
+        }
+        sum
+    }
+
+    /// `Σ wᵢ Dᵢ` from the un-normalised half vector (see [`Distribution::d_half`]).
+    #[inline]
+    pub fn d_half(&self, h: &HalfVector<f32>) -> f32 {
+        self.d_half_lanes(h)
+    }
+
+    /// [`Mixture::d_half`] on lanes (summed as [`Mixture::d_cos_lanes`]).
+    #[inline(always)]
+    pub fn d_half_lanes<F: Lane>(&self, h: &HalfVector<F>) -> F {
+        let lobes = self.lobes();
+        let mut sum = F::splat(lobes[0].0) * lobes[0].1.d_half_lanes(h);
+        for (w, d) in &lobes[1..] {
+            sum = sum + F::splat(*w) * d.d_half_lanes(h);
         }
         sum
     }
