@@ -73,3 +73,27 @@ def test_render_is_bit_identical_across_thread_counts(
         for k, a in outs[1].items():
             # bit-identical: compare the bytes, not the values (NaN != NaN, -0.0 == 0.0)
             assert a.tobytes() == outs[n][k].tobytes(), f"{what}: {k} differs between 1 and {n} threads"
+
+
+def test_a_render_does_not_depend_on_the_frames_rendered_before_it() -> None:
+    # brdfpy draws a new render into the buffers of the last image Python dropped (no fresh pages per
+    # frame): nothing of that image may show through, whatever its size, scene or shading.
+    cam = brdfpy.Camera.perspective((0.3, 0.8, 3.5), (0, 0, 0), fovy=50)
+
+    def buffers(img: brdfpy.Image) -> dict[str, bytes]:
+        return {k: np.array(getattr(img, k)).tobytes() for k in ("hdr", "rgb", "depth", "normal", "triangle_id")}
+
+    first = buffers(canonical_scene().render(cam, 200, 120))
+    for scene, size, options in [
+        (busy_scene(), (320, 200), {"shading": "flat"}),  # larger, every pixel covered differently
+        (busy_scene(), (64, 40), {"samples": 4}),  # smaller, supersampled
+        (busy_scene(), (200, 120), {"shading": "gouraud"}),  # same size, other content
+    ]:
+        img = scene.render(cam, *size, **options)
+        kept = buffers(img)
+        del img  # its frame becomes the spare the next render draws into
+        assert buffers(canonical_scene().render(cam, 200, 120)) == first
+        # and an image keeps its own pixels while later renders run
+        held = scene.render(cam, *size, **options)
+        canonical_scene().render(cam, 200, 120)
+        assert buffers(held) == kept

@@ -13,7 +13,7 @@ use brdf_core::tonemap::Operator;
 use brdf_raster::ao::AoOptions;
 use brdf_raster::normals::Weighting;
 use brdf_raster::occlusion::SceneOcclusion;
-use brdf_raster::render::{MAX_IMAGE_SIDE, NoOcclusion, RenderOptions, render_with};
+use brdf_raster::render::{MAX_IMAGE_SIDE, NoOcclusion, RenderOptions, render_with_into};
 use brdf_raster::tiles::NO_TRI;
 use brdf_raster::{Camera, Frame, Material, Mesh, Projection, RasterError, Scene, ShadingMode};
 use glam::{Mat4, Vec3};
@@ -582,6 +582,33 @@ pub struct RasterFrame {
     inner: Frame,
 }
 
+/// The buffers of the last frame Python dropped, drawn into by the next render.
+///
+/// Why: a script that renders in a loop (`img = scene.render(...)`) would otherwise hand ~66 MB per
+/// 1080p frame back to the system and map it again for the next one; the kernel zeroes every fresh
+/// page, which cost as much as a fifth of a frame's time and serialised the threads. One frame is kept,
+/// and only up to [`SPARE_FRAME_LIMIT`] bytes, so the memory held after images are gone is bounded.
+static SPARE_FRAME: Mutex<Option<Frame>> = Mutex::new(None);
+
+/// Largest frame, in bytes of buffers, kept for reuse (a 4K frame is about 265 MB).
+const SPARE_FRAME_LIMIT: usize = 320 << 20;
+
+impl Drop for RasterFrame {
+    fn drop(&mut self) {
+        let frame = std::mem::take(&mut self.inner);
+        if frame.heap_bytes() <= SPARE_FRAME_LIMIT {
+            // The replaced spare (if any) is freed here, outside no lock that matters.
+            let old = SPARE_FRAME.lock().unwrap_or_else(|e| e.into_inner()).replace(frame);
+            drop(old);
+        }
+    }
+}
+
+/// A frame to render into: the spare one if there is one, else an empty one (`render_into` sizes it).
+fn take_spare_frame() -> Frame {
+    SPARE_FRAME.lock().unwrap_or_else(|e| e.into_inner()).take().unwrap_or_default()
+}
+
 fn operator(name: &str, white: Option<f32>) -> PyResult<Operator> {
     if !Operator::NAMES.contains(&name.to_ascii_lowercase().as_str()) {
         return Err(invalid(format!(
@@ -772,10 +799,11 @@ pub fn render_scene(
     };
 
     let report: &(dyn Fn(f32) + Sync) = &report;
+    let mut frame = take_spare_frame();
     let result = py.detach(|| {
         pool.install(|| {
             if options.ao.is_none() && !options.shadows {
-                return render_with(&scene, &cam, &options, &NoOcclusion, Some(report));
+                return render_with_into(&scene, &cam, &options, &NoOcclusion, Some(report), &mut frame);
             }
             // One BVH over the world-space scene; per-vertex obscurance is estimated here, in parallel,
             // except for instances whose mesh brought stored values.
@@ -783,10 +811,10 @@ pub fn render_scene(
                 Some(stored) => SceneOcclusion::with_stored(&scene, options.ao, options.shadows, stored)?,
                 None => SceneOcclusion::new(&scene, options.ao, options.shadows)?,
             };
-            render_with(&scene, &cam, &options, &occlusion, Some(report))
+            render_with_into(&scene, &cam, &options, &occlusion, Some(report), &mut frame)
         })
     });
-    let frame = result.map_err(raster_err)?;
+    result.map_err(raster_err)?;
     if let Some(e) = state.into_inner().unwrap_or_else(|e| e.into_inner()).1 {
         return Err(e);
     }

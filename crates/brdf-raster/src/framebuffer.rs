@@ -89,7 +89,31 @@ pub struct Frame {
     pub exposure: f32,
 }
 
+/// An empty 0 × 0 frame (clamp, exposure 0): a target for [`crate::render::render_into`], which sizes it.
+impl Default for Frame {
+    fn default() -> Self {
+        Self {
+            width: 0,
+            height: 0,
+            hdr: Vec::new(),
+            depth: Vec::new(),
+            normal: Vec::new(),
+            triangle_id: Vec::new(),
+            tonemap: Operator::Clamp,
+            exposure: 0.0,
+        }
+    }
+}
+
 impl Frame {
+    /// Bytes held by the frame's buffers (their capacity).
+    pub fn heap_bytes(&self) -> usize {
+        self.hdr.capacity() * size_of::<Vec3>()
+            + self.depth.capacity() * size_of::<f32>()
+            + self.normal.capacity() * size_of::<Vec3>()
+            + self.triangle_id.capacity() * size_of::<u32>()
+    }
+
     /// Pixel index of column `x`, row `y` (from the top).
     #[inline]
     pub fn index(&self, x: u32, y: u32) -> usize {
@@ -112,10 +136,11 @@ impl Frame {
     pub fn to_rgb8_with(&self, op: Operator, exposure: f32) -> Vec<u8> {
         let mut out = vec![0u8; self.hdr.len() * 3];
         let scale = exposure.exp2();
-        out.par_chunks_mut(3 * 4096).zip(self.hdr.par_chunks(4096)).for_each(|(dst, src)| {
-            for (d, &c) in dst.chunks_exact_mut(3).zip(src) {
-                d.copy_from_slice(&tonemap::encode_srgb8(c * scale, op));
-            }
+        // Channels are independent: encode the flat HDR buffer in blocks of 16 rows of 1080p.
+        let src: &[f32] = bytemuck::cast_slice(&self.hdr);
+        const BLOCK: usize = 3 * 1920 * 16;
+        out.par_chunks_mut(BLOCK).zip(src.par_chunks(BLOCK)).for_each(|(dst, src)| {
+            tonemap::encode_srgb8_channels(src, scale, op, dst);
         });
         out
     }

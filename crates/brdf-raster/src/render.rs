@@ -268,11 +268,19 @@ pub fn render_with_into<O: Occlusion>(
     frame.height = options.height;
     frame.tonemap = options.tonemap;
     frame.exposure = options.exposure;
-    // Every element is overwritten by its band, so the old contents need no clearing.
-    frame.hdr.resize(n, Vec3::ZERO);
-    frame.depth.resize(n, 0.0);
-    frame.normal.resize(n, Vec3::ZERO);
-    frame.triangle_id.resize(n, 0);
+    // Every element is overwritten by its band, so the old contents need neither clearing nor, when a
+    // buffer is too small, copying into a larger one.
+    fn fit<T: bytemuck::Zeroable + Clone>(buf: &mut Vec<T>, n: usize) {
+        if buf.capacity() < n {
+            *buf = bytemuck::zeroed_vec(n);
+        } else {
+            buf.resize(n, T::zeroed());
+        }
+    }
+    fit(&mut frame.hdr, n);
+    fit(&mut frame.depth, n);
+    fit(&mut frame.normal, n);
+    fit(&mut frame.triangle_id, n);
     prep.draw(frame, occlusion, progress);
     prep.release();
     Ok(())

@@ -33,6 +33,9 @@ mod avx2;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx2::dispatch as dispatch_avx2;
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod srgb8_avx2;
+
 /// A computation over lanes of any [`Lane`] type (the batch evaluator's chunk loop), so that the lane
 /// type can be chosen at run time.
 pub(crate) trait LaneKernel {
