@@ -81,7 +81,9 @@ def test_a_render_does_not_depend_on_the_frames_rendered_before_it() -> None:
     cam = brdfpy.Camera.perspective((0.3, 0.8, 3.5), (0, 0, 0), fovy=50)
 
     def buffers(img: brdfpy.Image) -> dict[str, bytes]:
-        return {k: np.array(getattr(img, k)).tobytes() for k in ("hdr", "rgb", "depth", "normal", "triangle_id")}
+        return {
+            k: np.array(getattr(img, k)).tobytes() for k in ("hdr", "rgb", "depth", "normal", "triangle_id")
+        }
 
     first = buffers(canonical_scene().render(cam, 200, 120))
     for scene, size, options in [
