@@ -19,7 +19,8 @@ use glam::{Vec3, Vec3A};
 
 use crate::Geometry;
 use crate::lights::{Incident, Light};
-use crate::models::{Bxdf, Model, ModelVisitor, shade_model};
+use crate::models::{Bxdf, Model, ModelVisitor, shade_model, shade_model_lanes};
+use crate::simd::{Lane, LaneGeometry, V3};
 
 /// The material-side constants of the illumination model (all linear RGB).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,6 +74,47 @@ pub fn radiance<M: Bxdf>(
     c
 }
 
+/// [`radiance`] at `F::LANES` points with no occlusion (`w = 1`, every `δ = 1`): unit normals `n`,
+/// unit view directions `v`, positions `p`. Lane by lane the same bits as
+/// `radiance(model, terms, lights, &SurfacePoint { p, n, v, tangent: None }, 1.0, |_, _| 1.0)`:
+/// the same operations in the same order, the model through [`shade_model_lanes`]. Lanes outside
+/// `active` hold anything.
+#[inline(always)]
+pub fn radiance_lanes<M: Bxdf, F: Lane>(
+    model: &M,
+    terms: &Terms,
+    lights: &[Light],
+    p: V3<F>,
+    n: V3<F>,
+    v: V3<F>,
+    active: F::Mask,
+) -> V3<F> {
+    // `radiance`'s first line with obscurance 1 (the same expression, so the same bits).
+    let mut c = V3::splat(terms.emission + 1.0 * terms.ambient * terms.ambient_light);
+    let nv = n.dot(v);
+    for light in lights {
+        let inc = light.incident_lanes(p);
+        let lit = active & inc.arrives;
+        if !(0..F::LANES).any(|i| F::mask_lane(lit, i)) {
+            continue;
+        }
+        // `Geometry::from_unit(l, v, n)`: no tangent, cosines n·l and n·v.
+        let g = LaneGeometry {
+            l: inc.l,
+            v,
+            n,
+            tangent: None,
+            tangent_ok: F::mask_splat(false),
+            nl: n.dot(inc.l),
+            nv,
+        };
+        // `delta * irradiance * shade` with δ = 1: `1 · E` is `E` exactly.
+        let add = c + inc.irradiance * shade_model_lanes(model, &g, lit);
+        c = V3::select(lit, add, c);
+    }
+    c
+}
+
 /// [`radiance`] for a model chosen at run time: one dispatch through [`Model::visit`], then the same
 /// code (use [`Model::visit`] around a whole loop of [`radiance`] calls in hot paths).
 pub fn radiance_dyn(
@@ -109,6 +151,106 @@ fn geometry(l: Vec3, s: &SurfacePoint) -> Geometry {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lane_radiance_equals_scalar_radiance_bit_for_bit_for_every_model_and_light() {
+        use crate::lights::Attenuation;
+        use crate::simd::{F32x8, LaneKernel, run_widest};
+        use crate::vector::normalize_or_zero;
+
+        let lights = [
+            Light::directional(Vec3::new(-1.0, -1.0, -1.0), Vec3::ONE).unwrap(),
+            Light::directional(Vec3::new(0.0, -1.0, 0.2), Vec3::ZERO).unwrap(), // black: never arrives
+            Light::point(Vec3::splat(2.0), Vec3::splat(10.0), Attenuation::InverseSquare).unwrap(),
+            Light::point(
+                Vec3::new(-1.0, 0.5, 1.0),
+                Vec3::new(3.0, 2.0, 1.0),
+                Attenuation::Polynomial { c1: 0.5, c2: 0.2, c3: 0.1 },
+            )
+            .unwrap(),
+            // A point light exactly at a sample (below) gives no light there.
+            Light::point(Vec3::new(0.25, 0.0, 0.0), Vec3::ONE, Attenuation::None).unwrap(),
+            Light::spot(
+                Vec3::new(0.0, 2.0, 2.0),
+                Vec3::new(0.0, -1.0, -1.0),
+                Vec3::splat(8.0),
+                0.2,
+                0.5,
+                Attenuation::InverseSquare,
+            )
+            .unwrap(),
+        ];
+        let terms = Terms {
+            emission: Vec3::new(0.01, 0.0, 0.02),
+            ambient: Vec3::new(0.04, 0.015, 0.01),
+            ambient_light: Vec3::splat(1.0),
+        };
+        let eye = Vec3::new(0.0, 0.0, 3.0);
+        // 40 points on and around a unit sphere, every normal direction, some facing away.
+        let points: Vec<(Vec3, Vec3A, Vec3A)> = (0..40)
+            .map(|i| {
+                let t = i as f32 * 0.61;
+                let dir = Vec3::new(t.cos() * (0.3 * t).sin(), (0.7 * t).cos(), t.sin() * (0.3 * t).cos());
+                let p = if i == 5 { Vec3::new(0.25, 0.0, 0.0) } else { dir * (1.0 + 0.01 * i as f32) };
+                let n = normalize_or_zero((dir + Vec3::new(0.1, 0.0, 0.05)).into());
+                let v = normalize_or_zero((eye - p).into());
+                (p, n, v)
+            })
+            .collect();
+
+        struct Compare<'a> {
+            lights: &'a [Light],
+            terms: &'a Terms,
+            points: &'a [(Vec3, Vec3A, Vec3A)],
+        }
+        struct Kernel<'a, M> {
+            m: &'a M,
+            c: &'a Compare<'a>,
+        }
+        impl<M: Bxdf> LaneKernel for Kernel<'_, M> {
+            #[inline(always)]
+            fn run<F: Lane>(self) {
+                let c = self.c;
+                for group in c.points.chunks(F::LANES) {
+                    let k = group.len();
+                    let at = |i: usize| group[i.min(k - 1)];
+                    let p = V3::<F>::from_fn(|i| at(i).0);
+                    let n = V3::<F>::from_fn(|i| at(i).1.into());
+                    let v = V3::<F>::from_fn(|i| at(i).2.into());
+                    let active = F::from_fn(|i| if i < k { 1.0 } else { 0.0 }).gt(F::splat(0.5));
+                    let got = radiance_lanes(self.m, c.terms, c.lights, p, n, v, active);
+                    for (i, &(p, n, v)) in group.iter().enumerate() {
+                        let s = SurfacePoint { p, n, v, tangent: None };
+                        let want = radiance(self.m, c.terms, c.lights, &s, 1.0, |_, _| 1.0);
+                        let g = got.lane(i);
+                        assert_eq!(
+                            g.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits),
+                            "{} at {p}: lanes {g} vs scalar {want}",
+                            M::SPEC.name
+                        );
+                    }
+                }
+            }
+        }
+        impl ModelVisitor for &Compare<'_> {
+            type Output = ();
+            fn visit<M: Bxdf>(self, m: &M) {
+                Kernel { m, c: self }.run::<F32x8>();
+                run_widest(Kernel { m, c: self });
+                Kernel { m, c: self }.run::<f32>();
+            }
+        }
+        let cmp = Compare { lights: &lights, terms: &terms, points: &points };
+        for spec in crate::MODEL_SPECS {
+            Model::build(spec.name, &[]).unwrap().visit(&cmp);
+        }
+        // A rough Cook-Torrance and a sharp metal, where the GGX lobe is steep.
+        for alpha in [0.08, 0.6] {
+            let params = [("roughness".to_string(), crate::Input::Number(alpha))];
+            Model::build("cook_torrance", &params).unwrap().visit(&cmp);
+        }
+    }
     use crate::lights::Attenuation;
     use crate::models::Lambert;
 

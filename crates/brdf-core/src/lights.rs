@@ -15,6 +15,7 @@
 use glam::Vec3;
 
 use crate::BrdfError;
+use crate::simd::{Lane, V3};
 
 /// How a point or spot light's intensity falls off with the distance `d` to the surface point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -258,6 +259,67 @@ impl Light {
                 }
                 let irradiance = intensity * (cone * attenuation.factor(d));
                 (irradiance != Vec3::ZERO).then_some(Incident { l, irradiance, distance: d })
+            }
+        }
+    }
+}
+
+/// [`Incident`] at `F::LANES` points at once (see [`Light::incident_lanes`]).
+#[derive(Debug, Clone, Copy)]
+pub struct IncidentLanes<F: Lane> {
+    /// Unit direction toward the light.
+    pub l: V3<F>,
+    /// Irradiance on a surface facing the light.
+    pub irradiance: V3<F>,
+    /// Lanes where light arrives ([`Light::incident`] returned `Some`).
+    pub arrives: F::Mask,
+}
+
+impl Light {
+    /// [`Light::incident`] at `F::LANES` points: lane by lane the same bits (same operations in the
+    /// same order). Spot lights run the scalar function on each lane (their cone is not on the hot
+    /// path of any benchmark; one formula, kept in one place).
+    #[inline(always)]
+    pub fn incident_lanes<F: Lane>(&self, p: V3<F>) -> IncidentLanes<F> {
+        match *self {
+            Light::Directional { direction, color } => IncidentLanes {
+                l: V3::splat(-direction),
+                irradiance: V3::splat(color),
+                arrives: F::mask_splat(color != Vec3::ZERO),
+            },
+            Light::Point { position, intensity, attenuation } => {
+                // `toward`, then `intensity * attenuation.factor(d)`, on lanes.
+                let to = V3::splat(position) - p;
+                let d2 = to.dot(to);
+                let zero = F::splat(0.0);
+                let ok = d2.gt(zero) & d2.is_finite();
+                let d = d2.sqrt();
+                let factor = match attenuation {
+                    Attenuation::None => F::splat(1.0),
+                    Attenuation::InverseSquare | Attenuation::Polynomial { .. } => {
+                        let denom = match attenuation {
+                            Attenuation::Polynomial { c1, c2, c3 } => {
+                                F::splat(c1) + d * (F::splat(c2) + d * F::splat(c3))
+                            }
+                            _ => d * d,
+                        };
+                        F::select(denom.gt(zero), F::splat(1.0) / denom, zero)
+                    }
+                };
+                let irradiance = V3::splat(intensity).scale(factor);
+                let black = irradiance.x.eq(zero) & irradiance.y.eq(zero) & irradiance.z.eq(zero);
+                IncidentLanes { l: to / d, irradiance, arrives: ok & !black }
+            }
+            Light::Spot { .. } => {
+                let inc: [Option<Incident>; 8] =
+                    std::array::from_fn(|i| if i < F::LANES { self.incident(p.lane(i)) } else { None });
+                let arrives = F::from_fn(|i| if inc[i].is_some() { 1.0 } else { 0.0 }).gt(F::splat(0.5));
+                let or_zero = |i: usize, f: fn(&Incident) -> Vec3| inc[i].as_ref().map_or(Vec3::ZERO, f);
+                IncidentLanes {
+                    l: V3::from_fn(|i| or_zero(i, |c| c.l)),
+                    irradiance: V3::from_fn(|i| or_zero(i, |c| c.irradiance)),
+                    arrives,
+                }
             }
         }
     }

@@ -41,10 +41,12 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use brdf_core::illumination::{SurfacePoint, Terms, radiance};
+use brdf_core::illumination::{SurfacePoint, Terms, radiance, radiance_lanes};
 use brdf_core::lights::Incident;
 use brdf_core::models::{Bxdf, ModelVisitor};
+use brdf_core::simd::{Lane, LaneKernel, V3, run_widest};
 use brdf_core::tonemap::Operator;
+use brdf_core::vector::normalize_or_zero;
 use glam::{DVec3, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
@@ -175,6 +177,10 @@ pub struct ShadePoint {
 
 /// Ambient occlusion and shadow providers (seed 004 eq. 12.75), called at every shaded point.
 pub trait Occlusion: Sync {
+    /// `true` promises `obscurance = 1`, `visibility = 1` and `indirect = 0` everywhere, so that the
+    /// renderer may shade eight samples at a time without calling the hooks (same bits).
+    const TRIVIAL: bool = false;
+
     /// Obscurance `w(p) ∈ [0, 1]` multiplying the ambient term (1 = fully open).
     fn obscurance(&self, _at: &ShadePoint) -> f32 {
         1.0
@@ -196,7 +202,9 @@ pub trait Occlusion: Sync {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct NoOcclusion;
 
-impl Occlusion for NoOcclusion {}
+impl Occlusion for NoOcclusion {
+    const TRIVIAL: bool = true;
+}
 
 /// Render `scene` through `camera`, with the obscurance and shadows that `options.ao` and
 /// `options.shadows` ask for ([`crate::occlusion::SceneOcclusion`]).
@@ -590,6 +598,18 @@ impl<'a> Prepared<'a> {
         out
     }
 
+    /// The unit view direction at `F::LANES` points, as [`Prepared::illuminate`] computes it at one.
+    #[inline(always)]
+    fn view_lanes<F: Lane>(&self, p: V3<F>) -> V3<F> {
+        match self.ortho_view {
+            Some(v) => V3::splat(v.into()),
+            None => {
+                let (v, ok) = (V3::splat(self.eye.into()) - p).normalize_or_zero();
+                V3::select(ok, v, V3::splat(self.backward.into()))
+            }
+        }
+    }
+
     /// The illumination model at a point, with the mesh's vertex colour (if any) tinting everything but
     /// the emission.
     #[inline(always)]
@@ -603,7 +623,11 @@ impl<'a> Prepared<'a> {
     ) -> Vec3 {
         let v = match self.ortho_view {
             Some(v) => v,
-            None => (self.eye - Vec3A::from(at.p)).normalize_or(self.backward),
+            // Divided by the length (not times its reciprocal), as `view_lanes` does.
+            None => {
+                let v = normalize_or_zero(self.eye - Vec3A::from(at.p));
+                if v == Vec3A::ZERO { self.backward } else { v }
+            }
         };
         let sp = SurfacePoint { p: at.p, n: at.n.into(), v, tangent: None };
         let w = occlusion.obscurance(at);
@@ -723,7 +747,35 @@ impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
     type Output = ();
 
     fn visit<M: Bxdf>(self, m: &M) {
+        // Per-sample models (Phong, quadratic) without occlusion hooks or vertex colours are shaded
+        // eight samples at a time (the hot path of every benchmark); the rest one by one. Same bits.
+        let per_sample = matches!(self.prep.shading, ShadingMode::Phong | ShadingMode::QuadraticNormals);
+        let colors = self.prep.scene.instances[self.k].mesh.colors.is_some();
+        if O::TRIVIAL && per_sample && !colors {
+            struct Kernel<'c, 'b, M, O> {
+                job: ShadeChunk<'b, O>,
+                m: &'c M,
+            }
+            impl<M: Bxdf, O: Occlusion> LaneKernel for Kernel<'_, '_, M, O> {
+                #[inline(always)]
+                fn run<F: Lane>(self) {
+                    self.job.run::<M, F>(self.m, true);
+                }
+            }
+            run_widest(Kernel { job: self, m });
+        } else {
+            self.run::<M, f32>(m, false);
+        }
+    }
+}
+
+impl<O: Occlusion> ShadeChunk<'_, O> {
+    /// Shade the chunk's visible samples; with `lanes`, per-sample illumination goes through a
+    /// [`LaneQueue`] flushed `F::LANES` samples at a time.
+    #[inline(always)]
+    fn run<M: Bxdf, F: Lane>(self, m: &M, lanes: bool) {
         let prep = self.prep;
+        let mut queue = LaneQueue::new();
         let data = &prep.instances[self.k];
         let mesh = &prep.scene.instances[self.k].mesh;
         let colors = mesh.colors.as_deref();
@@ -760,10 +812,11 @@ impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
                             self.occlusion,
                         )
                     });
-                    let b = td.bary.at(c, r);
                     let (color, n) = match prep.shading {
+                        // Constant per triangle: no barycentrics needed.
                         ShadingMode::Flat => (td.flat_color, td.face_normal),
                         ShadingMode::Gouraud => {
+                            let b = td.bary.at(c, r);
                             let cv = td.idx.map(|j| vcolor[j as usize]);
                             (
                                 cv[0] * b.x + cv[1] * b.y + cv[2] * b.z,
@@ -771,6 +824,7 @@ impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
                             )
                         }
                         mode => {
+                            let b = td.bary.at(c, r);
                             let pos = td.p[0] * b.x + td.p[1] * b.y + td.p[2] * b.z;
                             let n = if mode == ShadingMode::QuadraticNormals {
                                 quadratic_normal(td.p, td.n, b)
@@ -778,6 +832,14 @@ impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
                                 linear_normal(td.n, b)
                             }
                             .normalize_or_zero();
+                            if lanes {
+                                self.normal[i] = n;
+                                self.face[i] = data.face_base + td.face;
+                                if queue.push(i as u32, pos, n) {
+                                    queue.flush::<M, F>(m, prep, &data.terms, self.hdr);
+                                }
+                                continue;
+                            }
                             let tint = colors.map(|col| {
                                 col[td.idx[0] as usize] * b.x
                                     + col[td.idx[1] as usize] * b.y
@@ -800,6 +862,68 @@ impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
                 }
             }
         }
+        if lanes {
+            queue.flush::<M, F>(m, prep, &data.terms, self.hdr);
+        }
+    }
+}
+
+/// Samples waiting to be shaded eight at a time: their index in the band and, in structure-of-arrays
+/// form, the interpolated world position and unit normal.
+struct LaneQueue {
+    len: usize,
+    index: [u32; LaneQueue::CAPACITY],
+    p: [[f32; LaneQueue::CAPACITY]; 3],
+    n: [[f32; LaneQueue::CAPACITY]; 3],
+}
+
+impl LaneQueue {
+    /// A multiple of every lane count; large enough that flushing is not per sample.
+    const CAPACITY: usize = 64;
+
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            len: 0,
+            index: [0; Self::CAPACITY],
+            p: [[0.0; Self::CAPACITY]; 3],
+            n: [[0.0; Self::CAPACITY]; 3],
+        }
+    }
+
+    /// Add a sample; `true` when the queue is full and must be flushed.
+    #[inline(always)]
+    fn push(&mut self, index: u32, p: Vec3, n: Vec3) -> bool {
+        let k = self.len;
+        self.index[k] = index;
+        (self.p[0][k], self.p[1][k], self.p[2][k]) = (p.x, p.y, p.z);
+        (self.n[0][k], self.n[1][k], self.n[2][k]) = (n.x, n.y, n.z);
+        self.len += 1;
+        self.len == Self::CAPACITY
+    }
+
+    /// Shade every queued sample into `hdr` and empty the queue: [`Prepared::illuminate`] without
+    /// tint or occlusion, on `F::LANES` samples at a time (the last group padded with copies of its
+    /// last sample, masked off).
+    #[inline(always)]
+    fn flush<M: Bxdf, F: Lane>(&mut self, m: &M, prep: &Prepared<'_>, terms: &Terms, hdr: &mut [Vec3]) {
+        let mut start = 0;
+        while start < self.len {
+            let count = F::LANES.min(self.len - start);
+            let at = |i: usize| start + i.min(count - 1);
+            let load = |a: &[f32; Self::CAPACITY]| F::from_fn(|i| a[at(i)]);
+            let p = V3 { x: load(&self.p[0]), y: load(&self.p[1]), z: load(&self.p[2]) };
+            let n = V3 { x: load(&self.n[0]), y: load(&self.n[1]), z: load(&self.n[2]) };
+            let active = F::from_fn(|i| if i < count { 1.0 } else { 0.0 }).gt(F::splat(0.5));
+            let c = radiance_lanes(m, terms, &prep.scene.lights, p, n, prep.view_lanes(p), active);
+            // `+ indirect` of `illuminate`, which is zero without occlusion.
+            let c = c + V3::splat(Vec3::ZERO);
+            for j in 0..count {
+                hdr[self.index[start + j] as usize] = c.lane(j);
+            }
+            start += count;
+        }
+        self.len = 0;
     }
 }
 

@@ -398,6 +398,67 @@ fn output_is_bit_identical_for_1_2_and_4_threads() {
 }
 
 #[test]
+fn shading_eight_samples_at_a_time_gives_the_bits_of_shading_one_at_a_time() {
+    // Without occlusion the renderer shades Phong / quadratic samples eight at a time; an occlusion
+    // provider that is not marked trivial (but answers w = δ = 1) forces the one-sample path.
+    struct OneAtATime;
+    impl brdf_raster::render::Occlusion for OneAtATime {}
+    let build = |name: &str, params: &[(&str, Input)]| {
+        let p: Vec<(String, Input)> = params.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+        Model::build(name, &p).unwrap()
+    };
+    let mut scene = canonical_scene(3).unwrap();
+    let sphere = scene.instances[0].mesh.clone();
+    let models = [
+        build("cook_torrance", &[("roughness", Input::Number(0.08)), ("kd", Input::Number(0.2))]),
+        build(
+            "cook_torrance",
+            &[("metal", Input::Text("au".into())), ("distribution", Input::Text("beckmann".into()))],
+        ),
+        build("lambert", &[]),
+        build("phong_classic", &[]),
+        build("oren_nayar", &[]),
+        build("ward", &[]),
+        build("toon", &[]),
+    ];
+    for (k, m) in models.into_iter().enumerate() {
+        let angle = k as f32 * 0.9;
+        let at = Vec3::new(1.3 * angle.cos(), 0.6 * (k as f32 - 3.0) / 3.0, 1.3 * angle.sin() - 1.0);
+        let material =
+            Material::new(m).with_ambient(Vec3::splat(0.03)).with_emission(Vec3::new(0.0, 0.01, 0.0));
+        scene.add(
+            sphere.clone(),
+            material,
+            Mat4::from_scale_rotation_translation(Vec3::splat(0.45), glam::Quat::IDENTITY, at),
+        );
+    }
+    scene.add_light(
+        Light::spot(
+            Vec3::new(0.0, 3.0, 2.0),
+            Vec3::new(0.0, -1.0, -0.6),
+            Vec3::splat(6.0),
+            0.3,
+            0.6,
+            Attenuation::Polynomial { c1: 1.0, c2: 0.1, c3: 0.05 },
+        )
+        .unwrap(),
+    );
+    scene.add_light(
+        Light::point(Vec3::new(-2.0, 0.5, 1.0), Vec3::new(2.0, 1.0, 0.5), Attenuation::None).unwrap(),
+    );
+    let ortho = Camera::orthographic(Vec3::new(0.5, 1.0, 3.0), Vec3::ZERO, Vec3::Y, 2.5, 0.1, 10.0).unwrap();
+    for (camera, what) in [(canonical_camera(), "perspective"), (ortho, "orthographic")] {
+        for mode in [ShadingMode::Phong, ShadingMode::QuadraticNormals] {
+            let options = RenderOptions { shading: mode, ..RenderOptions::new(211, 149) };
+            let lanes = render(&scene, &camera, &options).unwrap();
+            let one = brdf_raster::render::render_with(&scene, &camera, &options, &OneAtATime, None).unwrap();
+            assert_same(&lanes, &one, &format!("{what} {mode:?}"));
+            assert!(lanes.covered_pixels() > 5000, "{what}");
+        }
+    }
+}
+
+#[test]
 fn render_into_reuses_a_frame_and_gives_the_same_bits_as_render() {
     let scene = canonical_scene(3).unwrap();
     let camera = canonical_camera();

@@ -11,6 +11,7 @@ use glam::Vec3;
 
 use crate::models::{Bxdf, ModelKind, classic_f};
 use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::simd::{Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry};
 
 /// Largest accepted specular exponent: beyond it `x^s` underflows f32 for every `x` not within an ulp
@@ -186,13 +187,29 @@ impl Bxdf for BlinnPhongClassic {
 
     #[inline]
     fn shade(&self, g: &Geometry) -> Vec3 {
-        let diffuse = self.kd * g.nl.max(0.0);
-        if g.nl <= 0.0 {
-            return diffuse;
-        }
-        match g.h() {
-            Some(h) => diffuse + self.ks * g.n.dot(h).max(0.0).powf(self.shininess),
-            None => diffuse,
-        }
+        self.shade_generic::<f32>(&g.into(), true).into()
+    }
+
+    #[inline(always)]
+    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+        self.shade_generic(g, active)
+    }
+}
+
+impl BlinnPhongClassic {
+    /// The formula once, for one sample or eight (the rasterizer's hot path). `h` as
+    /// [`crate::vector::halfway`]: none (no specular) when `|l + v|² ≤ 1e-20`.
+    #[inline(always)]
+    fn shade_generic<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
+        let zero = F::splat(0.0);
+        let diffuse = V3::splat(self.kd).scale(g.nl.max(zero));
+        let s = g.l + g.v;
+        let len2 = s.dot(s);
+        let specular = active & g.nl.gt(zero) & len2.gt(F::splat(1e-20));
+        let nh = g.n.dot(s / len2.sqrt()).max(zero);
+        // `powf` has no lane form: run it on the lanes that keep it only.
+        let s = self.shininess;
+        let p = F::from_fn(|i| if F::mask_lane(specular, i) { nh.lane(i).powf(s) } else { 0.0 });
+        V3::select(specular, diffuse + V3::splat(self.ks).scale(p), diffuse)
     }
 }

@@ -36,11 +36,21 @@ pub(crate) use avx2::dispatch as dispatch_avx2;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod srgb8_avx2;
 
-/// A computation over lanes of any [`Lane`] type (the batch evaluator's chunk loop), so that the lane
-/// type can be chosen at run time.
-pub(crate) trait LaneKernel {
-    /// Run with lane type `F`.
+/// A computation over lanes of any [`Lane`] type (the batch evaluator's chunk loop, the rasterizer's
+/// shading queue), so that the lane type can be chosen at run time by [`run_widest`].
+pub trait LaneKernel {
+    /// Run with lane type `F`. Mark the implementation `#[inline(always)]`: it is then compiled inside
+    /// the AVX2-enabled caller and its lane operations become single AVX instructions.
     fn run<F: Lane>(self);
+}
+
+/// Run `k` with eight lanes in one AVX register where this CPU has AVX2 (detected at run time), else
+/// with [`F32x8`]. Both give the same bits (module docs).
+#[inline]
+pub fn run_widest<K: LaneKernel>(k: K) {
+    #[cfg(target_arch = "x86_64")]
+    let Some(k) = dispatch_avx2(k) else { return };
+    k.run::<F32x8>();
 }
 
 /// A number type the model formulas are written over: `f32` (one sample) or eight lanes.
@@ -388,6 +398,14 @@ impl<F: Lane> Mul for V3<F> {
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
         Self { x: self.x * o.x, y: self.y * o.y, z: self.z * o.z }
+    }
+}
+
+impl<F: Lane> Sub for V3<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
     }
 }
 
