@@ -830,16 +830,16 @@ impl<O: Occlusion> ShadeChunk<'_, O> {
                                 quadratic_normal(td.p, td.n, b)
                             } else {
                                 linear_normal(td.n, b)
-                            }
-                            .normalize_or_zero();
+                            };
                             if lanes {
-                                self.normal[i] = n;
+                                // Normalised in the queue, eight at a time.
                                 self.face[i] = data.face_base + td.face;
                                 if queue.push(i as u32, pos, n) {
-                                    queue.flush::<M, F>(m, prep, &data.terms, self.hdr);
+                                    queue.flush::<M, F>(m, prep, &data.terms, self.hdr, self.normal);
                                 }
                                 continue;
                             }
+                            let n = n.normalize_or_zero();
                             let tint = colors.map(|col| {
                                 col[td.idx[0] as usize] * b.x
                                     + col[td.idx[1] as usize] * b.y
@@ -863,13 +863,13 @@ impl<O: Occlusion> ShadeChunk<'_, O> {
             }
         }
         if lanes {
-            queue.flush::<M, F>(m, prep, &data.terms, self.hdr);
+            queue.flush::<M, F>(m, prep, &data.terms, self.hdr, self.normal);
         }
     }
 }
 
 /// Samples waiting to be shaded eight at a time: their index in the band and, in structure-of-arrays
-/// form, the interpolated world position and unit normal.
+/// form, the interpolated world position and (not yet normalised) normal.
 struct LaneQueue {
     len: usize,
     index: [u32; LaneQueue::CAPACITY],
@@ -902,29 +902,47 @@ impl LaneQueue {
         self.len == Self::CAPACITY
     }
 
-    /// Shade every queued sample into `hdr` and empty the queue: [`Prepared::illuminate`] without
-    /// tint or occlusion, on `F::LANES` samples at a time (the last group padded with copies of its
-    /// last sample, masked off).
+    /// Normalise the queued normals into `normal`, shade every queued sample into `hdr` and empty the
+    /// queue: [`Prepared::illuminate`] without tint or occlusion, on `F::LANES` samples at a time (the
+    /// last group padded with copies of its last sample, masked off).
     #[inline(always)]
-    fn flush<M: Bxdf, F: Lane>(&mut self, m: &M, prep: &Prepared<'_>, terms: &Terms, hdr: &mut [Vec3]) {
+    fn flush<M: Bxdf, F: Lane>(
+        &mut self,
+        m: &M,
+        prep: &Prepared<'_>,
+        terms: &Terms,
+        hdr: &mut [Vec3],
+        normal: &mut [Vec3],
+    ) {
         let mut start = 0;
         while start < self.len {
             let count = F::LANES.min(self.len - start);
             let at = |i: usize| start + i.min(count - 1);
             let load = |a: &[f32; Self::CAPACITY]| F::from_fn(|i| a[at(i)]);
             let p = V3 { x: load(&self.p[0]), y: load(&self.p[1]), z: load(&self.p[2]) };
-            let n = V3 { x: load(&self.n[0]), y: load(&self.n[1]), z: load(&self.n[2]) };
+            let n = unit_or_zero(V3 { x: load(&self.n[0]), y: load(&self.n[1]), z: load(&self.n[2]) });
             let active = F::from_fn(|i| if i < count { 1.0 } else { 0.0 }).gt(F::splat(0.5));
             let c = radiance_lanes(m, terms, &prep.scene.lights, p, n, prep.view_lanes(p), active);
             // `+ indirect` of `illuminate`, which is zero without occlusion.
             let c = c + V3::splat(Vec3::ZERO);
             for j in 0..count {
-                hdr[self.index[start + j] as usize] = c.lane(j);
+                let i = self.index[start + j] as usize;
+                hdr[i] = c.lane(j);
+                normal[i] = n.lane(j);
             }
             start += count;
         }
         self.len = 0;
     }
+}
+
+/// glam's `Vec3::normalize_or_zero` (the one-sample path's) on lanes, operation for operation:
+/// `v · (1/|v|)` where that reciprocal is finite and positive, else zero.
+#[inline(always)]
+fn unit_or_zero<F: Lane>(v: V3<F>) -> V3<F> {
+    let rcp = F::splat(1.0) / v.dot(v).sqrt();
+    let ok = rcp.is_finite() & rcp.gt(F::splat(0.0));
+    V3::select(ok, v.scale(rcp), V3::splat(Vec3::ZERO))
 }
 
 /// What shading needs of one mesh face, gathered once per triangle.
