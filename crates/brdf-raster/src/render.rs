@@ -914,14 +914,28 @@ impl LaneQueue {
         hdr: &mut [Vec3],
         normal: &mut [Vec3],
     ) {
+        if self.len == 0 {
+            return;
+        }
+        // Pad the last group with copies of the last sample, so that every group is a contiguous
+        // load (CAPACITY is a multiple of every lane count).
+        let padded = self.len.next_multiple_of(F::LANES);
+        for k in self.len..padded {
+            for a in self.p.iter_mut().chain(self.n.iter_mut()) {
+                a[k] = a[self.len - 1];
+            }
+        }
         let mut start = 0;
         while start < self.len {
             let count = F::LANES.min(self.len - start);
-            let at = |i: usize| start + i.min(count - 1);
-            let load = |a: &[f32; Self::CAPACITY]| F::from_fn(|i| a[at(i)]);
+            let load = |a: &[f32; Self::CAPACITY]| F::from_fn(|i| a[start + i]);
             let p = V3 { x: load(&self.p[0]), y: load(&self.p[1]), z: load(&self.p[2]) };
             let n = unit_or_zero(V3 { x: load(&self.n[0]), y: load(&self.n[1]), z: load(&self.n[2]) });
-            let active = F::from_fn(|i| if i < count { 1.0 } else { 0.0 }).gt(F::splat(0.5));
+            let active = if count == F::LANES {
+                F::mask_splat(true)
+            } else {
+                F::from_fn(|i| if i < count { 1.0 } else { 0.0 }).gt(F::splat(0.5))
+            };
             let c = radiance_lanes(m, terms, &prep.scene.lights, p, n, prep.view_lanes(p), active);
             // `+ indirect` of `illuminate`, which is zero without occlusion.
             let c = c + V3::splat(Vec3::ZERO);
