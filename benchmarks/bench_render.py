@@ -454,6 +454,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             "cpus": os.cpu_count(),
             "platform": platform.platform(),
             "python": platform.python_version(),
+            # The 2 cores are often shared: a load well above 0 at either end makes the figures suspect.
+            "loadavg_before": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
         },
         "size": [w, h],
         "frames": frames,
@@ -628,6 +630,10 @@ if __name__ == "__main__":
     if "--llvmpipe-worker" in sys.argv:
         raise SystemExit(_worker())
     res = main(sys.argv[1:])
+    if hasattr(os, "getloadavg"):
+        res["machine"]["loadavg_after"] = os.getloadavg()[0]
+        m = res["machine"]
+        print(f"load average: {m['loadavg_before']:.2f} before, {m['loadavg_after']:.2f} after")
     out_dir = HERE / "results"
     out_dir.mkdir(exist_ok=True)
     (out_dir / "render.json").write_text(json.dumps(res, indent=2) + "\n")
