@@ -327,6 +327,13 @@ fn seed_004_example_matches_hand_computation_in_every_mode() {
     assert!(phong > gouraud + 1.0);
 }
 
+/// A spot light above and in front of the origin, with the course's polynomial attenuation.
+fn overhead_spot() -> Light {
+    let falloff = Attenuation::Polynomial { c1: 1.0, c2: 0.1, c3: 0.05 };
+    Light::spot(Vec3::new(0.0, 3.0, 2.0), Vec3::new(0.0, -1.0, -0.6), Vec3::splat(6.0), 0.3, 0.6, falloff)
+        .unwrap()
+}
+
 fn assert_same(a: &Frame, b: &Frame, what: &str) {
     assert!(
         a.hdr
@@ -362,17 +369,7 @@ fn output_is_bit_identical_for_1_2_and_4_threads() {
             Vec3::new(-0.4, -0.3, -0.5),
         ),
     );
-    scene.add_light(
-        Light::spot(
-            Vec3::new(0.0, 3.0, 2.0),
-            Vec3::new(0.0, -1.0, -0.6),
-            Vec3::splat(6.0),
-            0.3,
-            0.6,
-            Attenuation::Polynomial { c1: 1.0, c2: 0.1, c3: 0.05 },
-        )
-        .unwrap(),
-    );
+    scene.add_light(overhead_spot());
     let camera = canonical_camera();
     for (mode, spp) in [
         (ShadingMode::Phong, 1),
@@ -432,17 +429,7 @@ fn shading_eight_samples_at_a_time_gives_the_bits_of_shading_one_at_a_time() {
             Mat4::from_scale_rotation_translation(Vec3::splat(0.45), glam::Quat::IDENTITY, at),
         );
     }
-    scene.add_light(
-        Light::spot(
-            Vec3::new(0.0, 3.0, 2.0),
-            Vec3::new(0.0, -1.0, -0.6),
-            Vec3::splat(6.0),
-            0.3,
-            0.6,
-            Attenuation::Polynomial { c1: 1.0, c2: 0.1, c3: 0.05 },
-        )
-        .unwrap(),
-    );
+    scene.add_light(overhead_spot());
     scene.add_light(
         Light::point(Vec3::new(-2.0, 0.5, 1.0), Vec3::new(2.0, 1.0, 0.5), Attenuation::None).unwrap(),
     );
