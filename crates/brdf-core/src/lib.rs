@@ -28,6 +28,7 @@ pub mod geometry;
 pub mod illumination;
 pub mod lights;
 pub mod masking;
+pub mod measured;
 pub mod microfacet;
 pub mod models;
 pub mod params;
