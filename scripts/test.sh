@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every test of brdfpy, from a fresh clone: needs only Rust (cargo), Python >= 3.9 with pip, and the package
 # registries. Installs what the tests need from the project's own files (pyproject.toml), then runs
-#   cargo fmt --check, cargo clippy -D warnings (whole workspace), cargo test (brdf-core, brdf-raster),
+#   cargo fmt --check, cargo clippy -D warnings (whole workspace), cargo doc -D warnings (whole workspace:
+#   broken intra-doc links, e.g. a unit written [rad] instead of \[rad\]), cargo test (brdf-core, brdf-raster),
 #   ruff check, ruff format --check, mypy --strict (python/brdfpy), mypy.stubtest (the compiled module's
 #   stub), pytest (tests/).
 # Every step runs even after a failure, so one run shows every problem; the exit status is non-zero if any
@@ -39,6 +40,7 @@ install() {
 step "install (maturin release build of the extension, test tools)" install
 step "cargo fmt --check" cargo fmt --all --check
 step "cargo clippy -D warnings" cargo clippy --workspace --all-targets -- -D warnings
+step "cargo doc -D warnings" env RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace
 step "cargo test" cargo test
 step "ruff check" "$PY" -m ruff check .
 step "ruff format --check" "$PY" -m ruff format --check .

@@ -48,7 +48,7 @@ pub const MERL_RESOLUTION: (usize, usize, usize) = (90, 90, 180);
 /// header asking for gigabytes).
 pub const MAX_NODES_PER_AXIS: usize = 4096;
 
-/// Rusinkiewicz's half/difference angles `(θ_h, θ_d, φ_d)` [radians] of a configuration, with `φ_d`
+/// Rusinkiewicz's half/difference angles `(θ_h, θ_d, φ_d)` \[radians\] of a configuration, with `φ_d`
 /// folded into `[0, π)` by reciprocity. `None` when `l = −v` (no half vector).
 ///
 /// The difference frame is MERL's: rotate `l` about `n` by `−φ_h`, then about the binormal by `−θ_h`.
@@ -180,7 +180,7 @@ impl Tabulated {
         (u * u * FRAC_PI_2, j as f32 / dims.1 as f32 * FRAC_PI_2, k as f32 / dims.2 as f32 * PI)
     }
 
-    /// The angles `(θ_h, θ_d, φ_d)` [radians] of node `(i, j, k)`.
+    /// The angles `(θ_h, θ_d, φ_d)` \[radians\] of node `(i, j, k)`.
     pub fn node_angles(&self, i: usize, j: usize, k: usize) -> (f32, f32, f32) {
         Self::node_angles_of(self.dims(), i, j, k)
     }
@@ -200,7 +200,7 @@ impl Tabulated {
         self.data[(i * self.n_td + j) * self.n_pd + k]
     }
 
-    /// Trilinear look-up at half/difference angles [radians]; `φ_d` may be any real (it is reduced
+    /// Trilinear look-up at half/difference angles \[radians\]; `φ_d` may be any real (it is reduced
     /// modulo π), `θ_h`, `θ_d` are clamped to the grid.
     pub fn lookup(&self, theta_h: f32, theta_d: f32, phi_d: f32) -> Vec3 {
         // Index coordinates; NaN inputs clamp to node 0 through `max`.

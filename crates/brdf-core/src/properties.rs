@@ -161,7 +161,7 @@ pub struct Quadrature {
     pub theta_order: usize,
     /// Gauss–Legendre points per φ panel (1 ..= 64).
     pub phi_order: usize,
-    /// Width [rad] of the smallest panels next to a peak (1e-9 ..= 0.1): lobes down to about twice
+    /// Width \[rad\] of the smallest panels next to a peak (1e-9 ..= 0.1): lobes down to about twice
     /// this width are resolved.
     pub min_panel: f64,
 }

@@ -7,7 +7,7 @@
 //!
 //! The pool lock is only ever taken while attached to the interpreter (holding the GIL) and never held
 //! across `py.detach`, so a `fork()` (which Python performs while attached) cannot happen while another
-//! thread holds it; [`reset_after_fork`] then drops the parent's pool in the child, whose worker threads
+//! thread holds it; [`_reset_after_fork`] then drops the parent's pool in the child, whose worker threads
 //! do not exist there.
 
 use std::sync::{Arc, Mutex, MutexGuard};

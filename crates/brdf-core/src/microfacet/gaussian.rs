@@ -57,7 +57,7 @@ pub fn d_half_with_normalization(h: &HalfVector<f32>, m: f32, c: f32) -> f32 {
     c * (-(theta / m) * (theta / m)).exp()
 }
 
-/// Gaussian `D` [1/sr] at `cos_h` for roughness `m` [rad]. Computes `c(m)` by quadrature on every
+/// Gaussian `D` [1/sr] at `cos_h` for roughness `m` \[rad\]. Computes `c(m)` by quadrature on every
 /// call (≈ 2000 exponentials): for many samples build a [`Gaussian`] once instead.
 pub fn d(cos_h: f32, m: f32) -> f32 {
     d_with_normalization(cos_h, m, normalization(m))
@@ -66,14 +66,14 @@ pub fn d(cos_h: f32, m: f32) -> f32 {
 /// A Gaussian distribution with its normalisation constant computed once.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gaussian {
-    /// RMS slope angle m [rad], ≥ [`ALPHA_MIN`].
+    /// RMS slope angle m \[rad\], ≥ [`ALPHA_MIN`].
     pub m: f32,
     /// `c(m)` [1/sr].
     pub c: f32,
 }
 
 impl Gaussian {
-    /// Gaussian of roughness `m` [rad] (clamped to ≥ [`ALPHA_MIN`]: below it the lobe is narrower than
+    /// Gaussian of roughness `m` \[rad\] (clamped to ≥ [`ALPHA_MIN`]: below it the lobe is narrower than
     /// f32 can resolve around cos θ = 1).
     pub fn new(m: f32) -> Self {
         let m = m.max(ALPHA_MIN);

@@ -108,7 +108,7 @@ impl Distribution {
     pub fn ggx_aniso(alpha_x: f32, alpha_y: f32) -> Self {
         Distribution::Ggx { alpha_x: floor_alpha(alpha_x), alpha_y: floor_alpha(alpha_y) }
     }
-    /// Gaussian of RMS slope angle m [rad] (normalisation computed here, once).
+    /// Gaussian of RMS slope angle m \[rad\] (normalisation computed here, once).
     pub fn gaussian(m: f32) -> Self {
         Distribution::Gaussian(Gaussian::new(floor_alpha(m)))
     }
@@ -127,7 +127,7 @@ impl Distribution {
 
     /// Build by name from a roughness, as `brdfpy.microfacet.distribution(name, h, n, alpha,
     /// alpha_y=…)` does: `alpha` (and `alpha_y`, bitangent direction, default `alpha`) is the RMS
-    /// slope / roughness α > 0 of `beckmann`, `ggx`, `ward`, the RMS slope angle m [rad] of
+    /// slope / roughness α > 0 of `beckmann`, `ggx`, `ward`, the RMS slope angle m \[rad\] of
     /// `gaussian`, and is mapped to the Blinn–Phong exponent `2/α² − 2` for `blinn_phong`
     /// (Walter et al. 2007 §5.2). For `ashikhmin_shirley` they are the exponents nu, nv ≥ 0 (that
     /// distribution has no roughness). Errors name the argument: α ≤ 0 or non-finite, `alpha_y` on

@@ -79,7 +79,7 @@ const SIGMA: ParamSpec = ParamSpec::scalar(
 pub struct OrenNayar {
     /// Facet albedo ρ.
     albedo: Vec3,
-    /// Roughness σ [rad].
+    /// Roughness σ \[rad\].
     sigma: f32,
     /// Constant used in `A`.
     variant: OrenNayarVariant,
@@ -90,7 +90,7 @@ pub struct OrenNayar {
 }
 
 impl OrenNayar {
-    /// Qualitative Oren-Nayar of albedo `albedo`, roughness `sigma` [rad] and the given `A` constant.
+    /// Qualitative Oren-Nayar of albedo `albedo`, roughness `sigma` \[rad\] and the given `A` constant.
     pub fn new(albedo: Vec3, sigma: f32, variant: OrenNayarVariant) -> Self {
         let rho_pi = albedo * FRAC_1_PI;
         Self {
@@ -108,7 +108,7 @@ impl OrenNayar {
         self.albedo
     }
 
-    /// Roughness σ [rad].
+    /// Roughness σ \[rad\].
     #[inline]
     pub fn sigma(&self) -> f32 {
         self.sigma
@@ -183,7 +183,7 @@ impl Bxdf for OrenNayar {
 pub struct OrenNayarFull {
     /// Facet albedo ρ.
     albedo: Vec3,
-    /// Roughness σ [rad].
+    /// Roughness σ \[rad\].
     sigma: f32,
     /// Whether the interreflection term `L2` is included.
     interreflection: bool,
@@ -200,7 +200,7 @@ pub struct OrenNayarFull {
 }
 
 impl OrenNayarFull {
-    /// Full Oren-Nayar of albedo `albedo`, roughness `sigma` [rad], with or without `L2`.
+    /// Full Oren-Nayar of albedo `albedo`, roughness `sigma` \[rad\], with or without `L2`.
     pub fn new(albedo: Vec3, sigma: f32, interreflection: bool) -> Self {
         let s2 = sigma * sigma;
         let k = s2 / (s2 + 0.09);
@@ -224,7 +224,7 @@ impl OrenNayarFull {
         self.albedo
     }
 
-    /// Roughness σ [rad].
+    /// Roughness σ \[rad\].
     #[inline]
     pub fn sigma(&self) -> f32 {
         self.sigma
