@@ -22,6 +22,7 @@
 
 pub mod batch;
 pub mod error;
+pub mod fit;
 pub mod frame;
 pub mod fresnel;
 pub mod geometry;
