@@ -34,6 +34,7 @@ pub mod microfacet;
 pub mod models;
 pub mod params;
 pub mod properties;
+pub mod sh;
 pub mod simd;
 pub mod tonemap;
 pub mod vector;

@@ -2,8 +2,8 @@
 //! looked up by trilinear interpolation, with the MERL `.binary` layout as the file format.
 //!
 //! Seed 003 ("Rendering from Measured BRDF") lists the ways to render from measured data: look the
-//! sampled values up with interpolation, fit an analytic model to them (`crate::fit`), or project
-//! them onto spherical harmonics (`crate::sh`). This module is the look-up.
+//! sampled values up with interpolation, fit an analytic model to them ([`crate::fit`]), or project
+//! them onto spherical harmonics ([`crate::sh`]). This module is the look-up.
 //!
 //! ## Parametrisation
 //! An isotropic BRDF depends on three angles. Rusinkiewicz (1998, "A New Change of Variables for
