@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-from brdfpy import checks, fresnel, microfacet, tonemap, transforms, vectors
+from brdfpy import checks, fresnel, measured, microfacet, sh, tonemap, transforms, vectors
 from brdfpy._brdfpy import BrdfError, __version__, get_num_threads, set_num_threads
 from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
 from brdfpy.camera import Camera
@@ -62,6 +62,7 @@ __all__ = [
     "get_num_threads",
     "icosphere",
     "load_mesh",
+    "measured",
     "microfacet",
     "model",
     "model_info",
@@ -70,6 +71,7 @@ __all__ = [
     "plane",
     "polygon_normal",
     "set_num_threads",
+    "sh",
     "tonemap",
     "torus",
     "transforms",

@@ -9,6 +9,7 @@ mod arrays;
 mod checks;
 mod errors;
 mod fresnel;
+mod measured;
 mod microfacet;
 mod models;
 mod raster;
@@ -28,6 +29,11 @@ mod _brdfpy {
     use super::fresnel::{
         color_shift, conductor, dielectric, dielectric_sp, f0_from_ior, ior_from_f0, metal_f0, metal_names,
         schlick, split,
+    };
+    #[pymodule_export]
+    use super::measured::{
+        Tabulated, fit_model, sh_basis, sh_clamped_cosine_zonal, sh_max_order, sh_project, sh_quadrature,
+        sh_reconstruct,
     };
     #[pymodule_export]
     use super::microfacet::{distribution, masking, microfacet_names, smith_lambda};

@@ -1,0 +1,333 @@
+//! Measured BRDFs (`brdf_core::measured`, `brdf_core::fit`) and spherical harmonics (`brdf_core::sh`):
+//! the tabulated BRDF as a Python object, the parameter fit, and the SH basis, quadrature, projection and
+//! reconstruction on float64 arrays. The Python modules `brdfpy.measured` and `brdfpy.sh` wrap these.
+
+use brdf_core::fit::{FitOptions, Sample};
+use brdf_core::measured::Tabulated as CoreTabulated;
+use brdf_core::sh;
+use brdf_core::{Geometry, Input};
+use glam::{DVec3, Vec3};
+use numpy::{
+    PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArrayDyn,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyBytes, PyDict, PyString};
+use rayon::prelude::*;
+
+use crate::arrays::{at, broadcast_len, check_vec3, part, vec3_view};
+use crate::errors::{invalid, to_py};
+use crate::models::Model;
+use crate::threads::{RowError, fill, run};
+
+/// An isotropic BRDF tabulated over Rusinkiewicz's (θ_h, θ_d, φ_d) on the MERL grid, looked up by
+/// trilinear interpolation.
+#[pyclass(frozen, module = "brdfpy._brdfpy")]
+pub struct Tabulated {
+    inner: CoreTabulated,
+}
+
+#[pymethods]
+impl Tabulated {
+    /// From a float32 C-contiguous array of shape `(n_theta_h, n_theta_d, n_phi_d, 3)`, values f_r [1/sr].
+    #[new]
+    fn new(py: Python<'_>, table: PyReadonlyArrayDyn<'_, f32>) -> PyResult<Self> {
+        let shape = table.shape().to_vec();
+        if shape.len() != 4 || shape[3] != 3 {
+            return Err(invalid(format!(
+                "table: expected shape (n_theta_h, n_theta_d, n_phi_d, 3), got {:?}",
+                shape
+            )));
+        }
+        let flat = table
+            .as_slice()
+            .map_err(|_| PyTypeError::new_err("table: expected a C-contiguous float32 array"))?;
+        let data: Vec<Vec3> = bytemuck::cast_slice::<f32, Vec3>(flat).to_vec();
+        let dims = (shape[0], shape[1], shape[2]);
+        let inner = run(py, data.len(), || CoreTabulated::new(dims, data))?.map_err(to_py)?;
+        Ok(Self { inner })
+    }
+
+    /// Tabulate `model` at the nodes of a `(n_theta_h, n_theta_d, n_phi_d)` grid.
+    #[staticmethod]
+    fn from_model(
+        py: Python<'_>,
+        model: PyRef<'_, Model>,
+        resolution: (usize, usize, usize),
+    ) -> PyResult<Self> {
+        let m = model.core().clone();
+        let work = resolution.0.saturating_mul(resolution.1).saturating_mul(resolution.2);
+        let inner = run(py, work, || CoreTabulated::from_model(&m, resolution))?.map_err(to_py)?;
+        Ok(Self { inner })
+    }
+
+    /// Parse the bytes of a MERL `.binary` file.
+    #[staticmethod]
+    fn from_merl_bytes(py: Python<'_>, data: &[u8]) -> PyResult<Self> {
+        let inner = run(py, data.len(), || CoreTabulated::read_merl(data))?.map_err(to_py)?;
+        Ok(Self { inner })
+    }
+
+    /// The table in the MERL `.binary` layout.
+    fn to_merl_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let mut out = Vec::new();
+        self.inner.write_merl(&mut out).map_err(to_py)?;
+        Ok(PyBytes::new(py, &out))
+    }
+
+    /// `(n_theta_h, n_theta_d, n_phi_d)`.
+    #[getter]
+    fn shape(&self) -> (usize, usize, usize) {
+        self.inner.dims()
+    }
+
+    /// A float32 copy of the values, shape `(n_theta_h, n_theta_d, n_phi_d, 3)`.
+    #[getter]
+    fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let (a, b, c) = self.inner.dims();
+        let flat: &[f32] = bytemuck::cast_slice(self.inner.data());
+        PyArray1::from_slice(py, flat).reshape(vec![a, b, c, 3])
+    }
+
+    /// Batch look-up: float32 C-contiguous `(k, 3)` arrays with k equal to 1 or N; returns `(N, 3)` f_r.
+    fn _eval<'py>(
+        &self,
+        py: Python<'py>,
+        l: PyReadonlyArray2<'py, f32>,
+        v: PyReadonlyArray2<'py, f32>,
+        n: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
+        let len = broadcast_len(&[("l", ls.len()), ("v", vs.len()), ("n", ns.len())])?;
+        for (name, s) in [("l", ls), ("v", vs), ("n", ns)] {
+            if s.len() == 1 {
+                check_vec3(name, s, 0).map_err(RowError::into_py)?;
+            }
+        }
+        let out = PyArray2::<f32>::zeros(py, [len, 3], false);
+        {
+            let mut w = out.readwrite();
+            let slice = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            let o: &mut [Vec3] = bytemuck::cast_slice_mut(slice);
+            let t = &self.inner;
+            fill(py, o, |offset, chunk| {
+                let k = chunk.len();
+                let (cl, cv, cn) = (part(ls, offset, k), part(vs, offset, k), part(ns, offset, k));
+                for (name, s) in [("l", cl), ("v", cv), ("n", cn)] {
+                    if s.len() != 1 {
+                        check_vec3(name, s, offset)?;
+                    }
+                }
+                for (i, out) in chunk.iter_mut().enumerate() {
+                    *out = Geometry::new(at(cl, i), at(cv, i), at(cn, i), None)
+                        .map_or(Vec3::ZERO, |g| t.eval(&g));
+                }
+                Ok(())
+            })?;
+        }
+        Ok(out)
+    }
+
+    fn __repr__(&self) -> String {
+        let (a, b, c) = self.inner.dims();
+        format!("brdfpy.measured.Tabulated(shape=({a}, {b}, {c}))")
+    }
+}
+
+/// A parameter value from Python: bool, name, number, or (nested) sequence of numbers.
+fn to_input(name: &str, x: &Bound<'_, PyAny>) -> PyResult<Input> {
+    if x.is_instance_of::<PyBool>() {
+        return Ok(Input::Bool(x.extract()?));
+    }
+    if x.is_instance_of::<PyString>() {
+        return Ok(Input::Text(x.extract()?));
+    }
+    if let Ok(f) = x.extract::<f64>() {
+        return Ok(Input::Number(f));
+    }
+    if let Ok(v) = x.extract::<Vec<f64>>() {
+        return Ok(Input::Numbers(v));
+    }
+    if let Ok(v) = x.extract::<Vec<Vec<f64>>>() {
+        return Ok(Input::Numbers(v.concat()));
+    }
+    Err(PyTypeError::new_err(format!(
+        "{name}: expected a number, a sequence of numbers, a name or a bool, got {}",
+        x.get_type().name()?
+    )))
+}
+
+fn to_inputs(d: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, Input)>> {
+    let mut out = Vec::new();
+    if let Some(d) = d {
+        for (k, v) in d.iter() {
+            let key: String =
+                k.extract().map_err(|_| PyTypeError::new_err("parameter names must be strings"))?;
+            let input = to_input(&key, &v)?;
+            out.push((key, input));
+        }
+    }
+    Ok(out)
+}
+
+/// Fit the parameters in `start` of model `name` to samples `(l, v, n, values)` (float32 `(k, 3)`,
+/// k = 1 or N; `values` `(N, 3)`). Returns a dict: values (name → float or 3-tuple), rms_log_error,
+/// epsilon, iterations, converged, samples_used.
+#[pyfunction]
+#[pyo3(signature = (name, l, v, n, values, start, fixed=None, max_iterations=200))]
+#[allow(clippy::too_many_arguments)]
+pub fn fit_model<'py>(
+    py: Python<'py>,
+    name: &str,
+    l: PyReadonlyArray2<'py, f32>,
+    v: PyReadonlyArray2<'py, f32>,
+    n: PyReadonlyArray2<'py, f32>,
+    values: PyReadonlyArray2<'py, f32>,
+    start: &Bound<'py, PyDict>,
+    fixed: Option<&Bound<'py, PyDict>>,
+    max_iterations: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
+    let fs = vec3_view("values", &values)?;
+    let len = broadcast_len(&[("values", fs.len()), ("l", ls.len()), ("v", vs.len()), ("n", ns.len())])?;
+    for (name, s) in [("l", ls), ("v", vs), ("n", ns)] {
+        check_vec3(name, s, 0).map_err(RowError::into_py)?;
+    }
+    let samples: Vec<Sample> =
+        (0..len).map(|i| Sample { l: at(ls, i), v: at(vs, i), n: at(ns, i), f: at(fs, i) }).collect();
+    let (start, fixed) = (to_inputs(Some(start))?, to_inputs(fixed)?);
+    let options = FitOptions { max_iterations, ..FitOptions::default() };
+    let name = name.to_string();
+    let res = run(py, usize::MAX, || brdf_core::fit::fit(&name, &fixed, &start, &samples, &options))?
+        .map_err(to_py)?;
+    let d = PyDict::new(py);
+    let vals = PyDict::new(py);
+    for (k, x) in &res.values {
+        if x.len() == 1 {
+            vals.set_item(k, x[0])?;
+        } else {
+            vals.set_item(k, (x[0], x[1], x[2]))?;
+        }
+    }
+    d.set_item("values", vals)?;
+    d.set_item("rms_log_error", res.rms_log_error)?;
+    d.set_item("epsilon", res.epsilon)?;
+    d.set_item("iterations", res.iterations)?;
+    d.set_item("converged", res.converged)?;
+    d.set_item("samples_used", res.samples_used)?;
+    Ok(d)
+}
+
+/// A float64 C-contiguous `(N, 3)` array viewed as `&[DVec3]` (N may be 0).
+fn dvec3_view<'a>(name: &str, a: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [DVec3]> {
+    let shape = a.shape();
+    if shape[1] != 3 {
+        return Err(invalid(format!("{name}: expected shape (N, 3), got ({}, {})", shape[0], shape[1])));
+    }
+    let s = a
+        .as_slice()
+        .map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous float64 array")))?;
+    if let Some(i) = s.iter().position(|x| !x.is_finite()) {
+        return Err(invalid(format!("{name}: non-finite value in row {}", i / 3)));
+    }
+    Ok(bytemuck::cast_slice(s))
+}
+
+fn check_order(order: usize) -> PyResult<()> {
+    if order > sh::MAX_ORDER {
+        return Err(invalid(format!("order: must be in [0, {}], got {order}", sh::MAX_ORDER)));
+    }
+    Ok(())
+}
+
+/// `Y_i(dir)` for every direction (rows) and coefficient `i < (order+1)²` (columns), float64.
+#[pyfunction]
+pub fn sh_basis<'py>(
+    py: Python<'py>,
+    dirs: PyReadonlyArray2<'py, f64>,
+    order: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    check_order(order)?;
+    let ds = dvec3_view("directions", &dirs)?;
+    let nc = sh::num_coeffs(order);
+    let out = PyArray2::<f64>::zeros(py, [ds.len(), nc], false);
+    if nc > 0 && !ds.is_empty() {
+        let mut w = out.readwrite();
+        let o = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        run(py, o.len(), || {
+            o.par_chunks_mut(nc).zip(ds.par_iter()).for_each(|(row, d)| sh::basis_into(*d, order, row))
+        })?;
+    }
+    Ok(out)
+}
+
+/// Quadrature directions `(M, 3)` and weights `(M,)`.
+type NodesWeights<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// The hemisphere-split Gauss–Legendre × uniform-φ rule: `(directions (M, 3), weights (M,))`.
+#[pyfunction]
+pub fn sh_quadrature<'py>(py: Python<'py>, n_mu: usize, n_phi: usize) -> PyResult<NodesWeights<'py>> {
+    let q = sh::Quadrature::new(n_mu, n_phi).map_err(to_py)?;
+    let flat: &[f64] = bytemuck::cast_slice(&q.dirs);
+    let dirs = PyArray1::from_slice(py, flat).reshape([q.len(), 3])?;
+    Ok((dirs, PyArray1::from_vec(py, q.weights)))
+}
+
+/// `c_i = Σ_k w_k f_k Y_i(ω_k)` for RGB values `(M, 3)` at directions `(M, 3)` with weights `(M,)`.
+#[pyfunction]
+pub fn sh_project<'py>(
+    py: Python<'py>,
+    values: PyReadonlyArray2<'py, f64>,
+    dirs: PyReadonlyArray2<'py, f64>,
+    weights: PyReadonlyArray1<'py, f64>,
+    order: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    check_order(order)?;
+    let vs = dvec3_view("values", &values)?;
+    let ds = dvec3_view("directions", &dirs)?;
+    let ws =
+        weights.as_slice().map_err(|_| PyTypeError::new_err("weights: expected a C-contiguous array"))?;
+    if ds.len() != ws.len() || ds.is_empty() {
+        return Err(invalid(format!(
+            "weights: expected one weight per direction ({}), got {}",
+            ds.len(),
+            ws.len()
+        )));
+    }
+    if let Some(i) = ws.iter().position(|x| !x.is_finite()) {
+        return Err(invalid(format!("weights: non-finite value at index {i}")));
+    }
+    let q = sh::Quadrature { dirs: ds.to_vec(), weights: ws.to_vec() };
+    let work = vs.len().saturating_mul(sh::num_coeffs(order));
+    let c = run(py, work, || sh::project_values(vs, &q, order))?.map_err(to_py)?;
+    let flat: &[f64] = bytemuck::cast_slice(&c);
+    PyArray1::from_slice(py, flat).reshape([c.len(), 3])
+}
+
+/// `Σ_i c_i Y_i(ω)` for RGB coefficients `((L+1)², 3)` at directions `(N, 3)`.
+#[pyfunction]
+pub fn sh_reconstruct<'py>(
+    py: Python<'py>,
+    coeffs: PyReadonlyArray2<'py, f64>,
+    dirs: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let cs = dvec3_view("coeffs", &coeffs)?;
+    let ds = dvec3_view("directions", &dirs)?;
+    let work = cs.len().saturating_mul(ds.len());
+    let r = run(py, work, || sh::reconstruct(cs, ds))?.map_err(to_py)?;
+    let flat: &[f64] = bytemuck::cast_slice(&r);
+    PyArray1::from_slice(py, flat).reshape([r.len(), 3])
+}
+
+/// Ramamoorthi–Hanrahan's `Â_l` of the clamped cosine, in closed form.
+#[pyfunction]
+pub fn sh_clamped_cosine_zonal(l: usize) -> f64 {
+    sh::clamped_cosine_zonal(l)
+}
+
+/// The highest supported SH order.
+#[pyfunction]
+pub fn sh_max_order() -> usize {
+    sh::MAX_ORDER
+}
