@@ -19,9 +19,13 @@
 //! Samples with `l` or `v` at or below the horizon are dropped (every physical model is 0 there).
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use crate::params::{Input, ParamKind};
 use crate::{BrdfError, Geometry, Model};
+
+/// Samples from which the residuals are evaluated on the rayon pool.
+const PARALLEL_MIN: usize = 4096;
 
 /// One measurement: directions (pointing away from the surface, any length > 0) and `f_r` [1/sr].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,12 +117,18 @@ impl Problem<'_> {
     /// Residuals at `p`, or `None` when the model refuses the combination of values.
     fn residuals(&self, p: &[f64]) -> Option<Vec<f64>> {
         let m = Model::build(self.name, &self.inputs(p)).ok()?;
-        let mut r = Vec::with_capacity(self.target.len());
-        for (g, t) in self.geoms.iter().zip(self.target.chunks_exact(3)) {
+        let mut r = vec![0.0; self.target.len()];
+        let one = |(out, (g, t)): (&mut [f64], (&Geometry, &[f64]))| {
             let f = m.eval(g);
             for c in 0..3 {
-                r.push((f64::from(f[c]).max(0.0) + self.eps).ln() - t[c]);
+                out[c] = (f64::from(f[c]).max(0.0) + self.eps).ln() - t[c];
             }
+        };
+        // Each residual depends on its sample only, so the parallel loop gives the same bits.
+        if self.geoms.len() >= PARALLEL_MIN {
+            r.par_chunks_mut(3).zip(self.geoms.par_iter().zip(self.target.par_chunks(3))).for_each(one);
+        } else {
+            r.chunks_mut(3).zip(self.geoms.iter().zip(self.target.chunks(3))).for_each(one);
         }
         r.iter().all(|x| x.is_finite()).then_some(r)
     }
