@@ -91,6 +91,17 @@ def test_table_is_reciprocal() -> None:
     np.testing.assert_allclose(t.eval(l, v, [0, 0, 1]), t.eval(v, l, [0, 0, 1]), rtol=1e-4, atol=1e-7)
 
 
+def test_look_up_does_not_depend_on_the_frame() -> None:
+    # An isotropic table: rotating l, v and n together (any rotation, including about n) changes nothing.
+    t = measured.Tabulated.from_model(brdfpy.model("cook_torrance", **CT), (16, 16, 32))
+    rng = np.random.default_rng(10)
+    l, v = _pairs(rng, 2000)
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    rot = q * np.sign(np.linalg.det(q))  # a proper rotation
+    n = np.array([0.0, 0.0, 1.0])
+    np.testing.assert_allclose(t.eval(l @ rot.T, v @ rot.T, n @ rot.T), t.eval(l, v, n), rtol=2e-4, atol=1e-6)
+
+
 def test_merl_file_round_trips_with_the_documented_layout(tmp_path: Path) -> None:
     t = measured.Tabulated.from_model(brdfpy.model("cook_torrance", **CT), (6, 5, 8))
     path = tmp_path / "ct.binary"

@@ -200,7 +200,7 @@ impl Quadrature {
         self.dirs.len()
     }
 
-    /// Always `false` (a rule has at least 2 nodes); for clippy's `len_without_is_empty`.
+    /// `true` when the rule has no nodes (only possible for one assembled by hand from its fields).
     pub fn is_empty(&self) -> bool {
         self.dirs.is_empty()
     }
