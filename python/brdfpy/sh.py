@@ -18,6 +18,7 @@ with a kink there, such as the clamped cosine and every ``f_r · max(n·l, 0)`` 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import NamedTuple, Union
 
@@ -31,7 +32,9 @@ __all__ = [
     "Quadrature",
     "basis",
     "clamped_cosine_zonal",
+    "convolve",
     "index",
+    "irradiance",
     "num_coeffs",
     "project",
     "quadrature",
@@ -175,6 +178,35 @@ def reconstruct(coeffs: ArrayLike, directions: ArrayLike) -> F64:
     if scalar:
         out = np.ascontiguousarray(out[:, 0])
     return out[0] if single else out
+
+
+def convolve(coeffs: ArrayLike, kernel: ArrayLike) -> F64:
+    """Convolve with a kernel symmetric about an axis (Funk–Hecke): band ``l`` is scaled by ``kernel[l]``.
+
+    ``kernel[l] = Â_l = 2π ∫ k(t) P_l(t) dt`` over ``[-1, 1]``; ``coeffs`` is ((L+1)²,) or ((L+1)², 3) and
+    ``kernel`` has ``L + 1`` values. Same formula as ``brdf_core::sh::convolve_zonal`` (a per-band scaling,
+    done here in NumPy).
+    """
+    c = np.asarray(coeffs, dtype=np.float64)
+    k = np.asarray(kernel, dtype=np.float64)
+    size = c.shape[0] if c.ndim in (1, 2) else 0
+    order = math.isqrt(size) - 1
+    if size == 0 or (order + 1) ** 2 != size or (c.ndim == 2 and c.shape[1] != 3):
+        raise ValueError(f"coeffs: expected shape ((L+1)^2,) or ((L+1)^2, 3), got {c.shape}")
+    if k.shape != (order + 1,):
+        raise ValueError(f"kernel: expected one value per band ({order + 1},), got shape {k.shape}")
+    if not (np.all(np.isfinite(k)) and np.all(np.isfinite(c))):
+        raise ValueError("coeffs, kernel: must be finite")
+    scale = np.repeat(k, 2 * np.arange(order + 1) + 1)
+    return c * (scale if c.ndim == 1 else scale[:, None])
+
+
+def irradiance(radiance: ArrayLike) -> F64:
+    """Irradiance coefficients ``E(n) = ∫ L(ω) max(n·ω, 0) dω`` from radiance coefficients: :func:`convolve`
+    with the clamped cosine's ``Â_l`` (Ramamoorthi & Hanrahan 2001)."""
+    c = np.asarray(radiance, dtype=np.float64)
+    order = math.isqrt(c.shape[0]) - 1 if c.ndim in (1, 2) and c.shape[0] > 0 else 0
+    return convolve(c, [clamped_cosine_zonal(l) for l in range(order + 1)])
 
 
 def clamped_cosine_zonal(l: int) -> float:
