@@ -9,6 +9,7 @@
 
 use glam::Vec3;
 
+use crate::models::phong::{mirror_deficit, pow_one_minus};
 use crate::models::{Bxdf, ModelKind, classic_f};
 use crate::params::{ModelSpec, ParamSpec, Params};
 use crate::simd::{Lane, LaneGeometry, V3};
@@ -140,9 +141,9 @@ impl Bxdf for PhongClassic {
         if self.specular_gate && g.nl <= 0.0 {
             return diffuse;
         }
-        // v·r = 2(n·l)(n·v) − l·v, written symmetrically in l and v.
-        let rv = 2.0 * g.nl * g.nv - g.l.dot(g.v);
-        diffuse + self.ks * rv.clamp(0.0, 1.0).powf(self.shininess)
+        // clamp(v·r, 0, 1)^γ from the deficit d = 1 − v·r, symmetric in l and v: `2(n·l)(n·v) − l·v`
+        // rounds v·r ≈ 1 to float32, γ·2^-24 relative and more at the highlight (phong::mirror_deficit).
+        diffuse + self.ks * pow_one_minus(mirror_deficit(g), self.shininess)
     }
 }
 

@@ -40,6 +40,7 @@ use std::f32::consts::FRAC_2_PI;
 
 use glam::Vec3;
 
+use crate::models::phong::{mirror_deficit, pow_one_minus};
 use crate::models::{Bxdf, ModelKind, classic_f};
 use crate::params::{ModelSpec, ParamSpec, Params};
 use crate::{BrdfError, Geometry};
@@ -209,16 +210,22 @@ impl Bxdf for Strauss {
         if !(g.nl > 0.0 && g.nv > 0.0) {
             return Vec3::ZERO;
         }
-        let xi = g.nl.min(1.0).acos() * FRAC_2_PI;
-        let xr = g.nv.min(1.0).acos() * FRAC_2_PI;
+        // θ = atan2(|n×w|, n·w), not acos(n·w): near the normal a float32 cosine ≈ 1 is known only to a
+        // few 2^-24, which acos turns into ~2^-24/sin θ of angle (1e-4 rad at θ = 5e-4; r_j came out
+        // 180× further from the float64 oracle than input rounding explains); |n×w| keeps sin θ to a
+        // few 2^-24 relative. tests/test_phong_precision.py.
+        let xi = g.n.cross(g.l).length().atan2(g.nl) * FRAC_2_PI;
+        let xr = g.n.cross(g.v).length().atan2(g.nv) * FRAC_2_PI;
         let f = self.fresnel(match self.fresnel_angle {
             StraussFresnelAngle::Incidence => xi,
             StraussFresnelAngle::Mean => 0.5 * (xi + xr),
         });
         let j = f * self.shadow(xi) * self.shadow(xr);
         let rj = (self.rn + (self.rn + self.kj) * j).min(1.0);
-        let rv = g.r().dot(g.v).max(0.0);
-        let rs = if rv > 0.0 { rv.powf(self.exponent) * rj } else { 0.0 };
+        // max(r·v, 0)^h from the deficit d = 1 − r·v: `r·v` itself near 1 is rounded to float32, which
+        // the exponent (up to 30000) amplifies to h·2^-24 relative and more (phong::mirror_deficit).
+        let d = mirror_deficit(g);
+        let rs = if d < 1.0 { pow_one_minus(d, self.exponent) * rj } else { 0.0 };
         let cs = Vec3::ONE + self.metalness * (1.0 - f) * (self.color - Vec3::ONE);
         let qd = g.nl * self.d * self.rd * self.color;
         qd + rs * cs
