@@ -136,3 +136,36 @@ pub fn map_flat<'py>(
     }
     Ok(out)
 }
+
+/// The skeleton of every batch evaluation over `(k, 3)` direction arrays broadcast to `len` rows: checks
+/// the broadcast (`k = 1`) inputs once, allocates the float32 `(len, 3)` output and fills it chunk by chunk
+/// through [`crate::threads::fill`] (GIL released for large batches). `body(offset, parts, chunk)` gets
+/// each input's part for the chunk (in the order of `inputs`) and checks the non-broadcast rows itself,
+/// where they are already in the cache.
+pub fn eval_rows<'py>(
+    py: Python<'py>,
+    inputs: &[(&'static str, &[Vec3])],
+    len: usize,
+    body: impl Fn(usize, &[&[Vec3]], &mut [Vec3]) -> Result<(), RowError> + Send + Sync,
+) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+    use numpy::PyArrayMethods;
+    for &(name, rows) in inputs {
+        if rows.len() == 1 {
+            check_vec3(name, rows, 0).map_err(RowError::into_py)?;
+        }
+    }
+    let out = numpy::PyArray2::<f32>::zeros(py, [len, 3], false);
+    {
+        let mut w = out.readwrite();
+        let slice = w.as_slice_mut().map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+        let o: &mut [Vec3] = bytemuck::cast_slice_mut(slice);
+        crate::threads::fill(py, o, |offset, chunk| {
+            let mut parts = [&[][..]; 4];
+            for (p, &(_, rows)) in parts.iter_mut().zip(inputs) {
+                *p = part(rows, offset, chunk.len());
+            }
+            body(offset, &parts[..inputs.len()], chunk)
+        })?;
+    }
+    Ok(out)
+}

@@ -2,10 +2,10 @@
 //! the tabulated BRDF as a Python object, the parameter fit, and the SH basis, quadrature, projection and
 //! reconstruction on float64 arrays. The Python modules `brdfpy.measured` and `brdfpy.sh` wrap these.
 
+use brdf_core::Geometry;
 use brdf_core::fit::{FitOptions, Sample};
 use brdf_core::measured::Tabulated as CoreTabulated;
 use brdf_core::sh;
-use brdf_core::{Geometry, Input};
 use glam::{DVec3, Vec3};
 use numpy::{
     PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArrayDyn,
@@ -13,13 +13,13 @@ use numpy::{
 };
 use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyBytes, PyDict, PyString};
+use pyo3::types::{PyBytes, PyDict};
 use rayon::prelude::*;
 
-use crate::arrays::{at, broadcast_len, check_vec3, part, vec3_view};
+use crate::arrays::{at, broadcast_len, check_vec3, eval_rows, vec3_view};
 use crate::errors::{invalid, to_py};
-use crate::models::Model;
-use crate::threads::{RowError, fill, run};
+use crate::models::{Model, to_inputs};
+use crate::threads::{RowError, run};
 
 /// An isotropic BRDF tabulated over Rusinkiewicz's (θ_h, θ_d, φ_d) on the MERL grid, looked up by
 /// trilinear interpolation.
@@ -100,75 +100,26 @@ impl Tabulated {
     ) -> PyResult<Bound<'py, PyArray2<f32>>> {
         let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
         let len = broadcast_len(&[("l", ls.len()), ("v", vs.len()), ("n", ns.len())])?;
-        for (name, s) in [("l", ls), ("v", vs), ("n", ns)] {
-            if s.len() == 1 {
-                check_vec3(name, s, 0).map_err(RowError::into_py)?;
+        let t = &self.inner;
+        eval_rows(py, &[("l", ls), ("v", vs), ("n", ns)], len, |offset, parts, chunk| {
+            for (name, s) in ["l", "v", "n"].into_iter().zip(parts) {
+                if s.len() != 1 {
+                    check_vec3(name, s, offset)?;
+                }
             }
-        }
-        let out = PyArray2::<f32>::zeros(py, [len, 3], false);
-        {
-            let mut w = out.readwrite();
-            let slice = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-            let o: &mut [Vec3] = bytemuck::cast_slice_mut(slice);
-            let t = &self.inner;
-            fill(py, o, |offset, chunk| {
-                let k = chunk.len();
-                let (cl, cv, cn) = (part(ls, offset, k), part(vs, offset, k), part(ns, offset, k));
-                for (name, s) in [("l", cl), ("v", cv), ("n", cn)] {
-                    if s.len() != 1 {
-                        check_vec3(name, s, offset)?;
-                    }
-                }
-                for (i, out) in chunk.iter_mut().enumerate() {
-                    *out = Geometry::new(at(cl, i), at(cv, i), at(cn, i), None)
-                        .map_or(Vec3::ZERO, |g| t.eval(&g));
-                }
-                Ok(())
-            })?;
-        }
-        Ok(out)
+            let (cl, cv, cn) = (parts[0], parts[1], parts[2]);
+            for (i, out) in chunk.iter_mut().enumerate() {
+                *out =
+                    Geometry::new(at(cl, i), at(cv, i), at(cn, i), None).map_or(Vec3::ZERO, |g| t.eval(&g));
+            }
+            Ok(())
+        })
     }
 
     fn __repr__(&self) -> String {
         let (a, b, c) = self.inner.dims();
         format!("brdfpy.measured.Tabulated(shape=({a}, {b}, {c}))")
     }
-}
-
-/// A parameter value from Python: bool, name, number, or (nested) sequence of numbers.
-fn to_input(name: &str, x: &Bound<'_, PyAny>) -> PyResult<Input> {
-    if x.is_instance_of::<PyBool>() {
-        return Ok(Input::Bool(x.extract()?));
-    }
-    if x.is_instance_of::<PyString>() {
-        return Ok(Input::Text(x.extract()?));
-    }
-    if let Ok(f) = x.extract::<f64>() {
-        return Ok(Input::Number(f));
-    }
-    if let Ok(v) = x.extract::<Vec<f64>>() {
-        return Ok(Input::Numbers(v));
-    }
-    if let Ok(v) = x.extract::<Vec<Vec<f64>>>() {
-        return Ok(Input::Numbers(v.concat()));
-    }
-    Err(PyTypeError::new_err(format!(
-        "{name}: expected a number, a sequence of numbers, a name or a bool, got {}",
-        x.get_type().name()?
-    )))
-}
-
-fn to_inputs(d: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, Input)>> {
-    let mut out = Vec::new();
-    if let Some(d) = d {
-        for (k, v) in d.iter() {
-            let key: String =
-                k.extract().map_err(|_| PyTypeError::new_err("parameter names must be strings"))?;
-            let input = to_input(&key, &v)?;
-            out.push((key, input));
-        }
-    }
-    Ok(out)
 }
 
 /// Fit the parameters in `start` of model `name` to samples `(l, v, n, values)` (float32 `(k, 3)`,

@@ -3,15 +3,14 @@
 
 use brdf_core::batch::{Directions, Quantity, evaluate_checked};
 use brdf_core::{Input, ModelSpec, ParamKind, ParamSpec, Params, Value};
-use glam::Vec3;
-use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::{PyRuntimeError, PyTypeError};
+use numpy::{PyArray2, PyReadonlyArray2};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
-use crate::arrays::{check_vec3, part, vec3_view};
+use crate::arrays::{eval_rows, vec3_view};
 use crate::errors::{invalid, to_py};
-use crate::threads::{RowError, fill};
+use crate::threads::RowError;
 
 /// Names of every registered model, in registry order.
 #[pyfunction]
@@ -176,6 +175,20 @@ fn to_input(name: &str, x: &Bound<'_, PyAny>) -> PyResult<Input> {
     }
 }
 
+/// Keyword parameters from Python, in order, each converted by [`to_input`].
+pub(crate) fn to_inputs(d: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, Input)>> {
+    let mut out = Vec::new();
+    if let Some(d) = d {
+        for (k, v) in d.iter() {
+            let key: String =
+                k.extract().map_err(|_| PyTypeError::new_err("parameter names must be strings"))?;
+            let input = to_input(&key, &v)?;
+            out.push((key, input));
+        }
+    }
+    Ok(out)
+}
+
 /// A reflectance model with fixed, validated parameters (`brdfpy.Model` subclasses it).
 #[pyclass(frozen, subclass, module = "brdfpy._brdfpy")]
 pub struct Model {
@@ -196,14 +209,7 @@ impl Model {
     #[new]
     #[pyo3(signature = (name, /, **params))]
     fn new(name: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        let mut inputs = Vec::new();
-        if let Some(d) = params {
-            for (k, v) in d.iter() {
-                let key: String = k.extract()?;
-                let input = to_input(&key, &v)?;
-                inputs.push((key, input));
-            }
-        }
+        let inputs = to_inputs(params)?;
         let inner = brdf_core::Model::build(name, &inputs).map_err(to_py)?;
         let params = Params::resolve(inner.spec(), &inputs).map_err(to_py)?;
         Ok(Self { inner, params })
@@ -256,32 +262,19 @@ impl Model {
         // Checks lengths and broadcasting, naming the argument that does not fit.
         let (_, len) = Directions::new(ls, vs, ns, ts).map_err(to_py)?;
         let q = if shade { Quantity::Shade } else { Quantity::Brdf };
-        for (name, s) in [("l", ls), ("v", vs), ("n", ns)].into_iter().chain(ts.map(|t| ("tangent", t))) {
-            if s.len() == 1 {
-                check_vec3(name, s, 0).map_err(RowError::into_py)?;
+        let mut inputs = vec![("l", ls), ("v", vs), ("n", ns)];
+        inputs.extend(ts.map(|t| ("tangent", t)));
+        let model = &self.inner;
+        eval_rows(py, &inputs, len, |offset, parts, chunk| {
+            // Lengths are consistent by construction (checked above), so this cannot fail. The
+            // finiteness check runs inside the evaluation, on the rows already loaded (broadcast
+            // inputs were checked once by `eval_rows`, so any row it reports is a chunk row).
+            match Directions::new(parts[0], parts[1], parts[2], parts.get(3).copied()) {
+                Ok((dirs, _)) => evaluate_checked(model, &dirs, q, chunk)
+                    .map_err(|e| RowError::non_finite_row(e.name, offset + e.row)),
+                Err(_) => Ok(()),
             }
-        }
-        let out = PyArray2::<f32>::zeros(py, [len, 3], false);
-        {
-            let mut w = out.readwrite();
-            let slice = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-            let o: &mut [Vec3] = bytemuck::cast_slice_mut(slice);
-            let model = &self.inner;
-            fill(py, o, |offset, chunk| {
-                let k = chunk.len();
-                let (cl, cv, cn) = (part(ls, offset, k), part(vs, offset, k), part(ns, offset, k));
-                let ct = ts.map(|t| part(t, offset, k));
-                // Lengths are consistent by construction (checked above), so this cannot fail. The
-                // finiteness check runs inside the evaluation, on the rows already loaded (broadcast
-                // inputs were checked once above, so any row it reports is a chunk row).
-                match Directions::new(cl, cv, cn, ct) {
-                    Ok((dirs, _)) => evaluate_checked(model, &dirs, q, chunk)
-                        .map_err(|e| RowError::non_finite_row(e.name, offset + e.row)),
-                    Err(_) => Ok(()),
-                }
-            })?;
-        }
-        Ok(out)
+        })
     }
 
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
