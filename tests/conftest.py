@@ -30,9 +30,11 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
+from collections.abc import Iterator
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, TypeVar
 
 import numpy as np
 import pytest
@@ -161,6 +163,53 @@ def rng(request: pytest.FixtureRequest) -> np.random.Generator:
     """A generator seeded from the test's name: reproducible, but different per test."""
     seed = sum(request.node.nodeid.encode()) * 7919 % (2**32)
     return np.random.default_rng(seed)
+
+
+@pytest.fixture
+def restore_threads() -> Iterator[None]:
+    """Put brdfpy's thread count back after a test that changes it."""
+    import brdfpy
+
+    before = brdfpy.get_num_threads()
+    yield
+    brdfpy.set_num_threads(before)
+
+
+@pytest.fixture
+def one_thread(restore_threads: None) -> None:
+    """brdfpy on one thread, leaving the second core to a Python thread (GIL tests)."""
+    import brdfpy
+
+    brdfpy.set_num_threads(1)
+
+
+T = TypeVar("T")
+
+
+def python_spins_during(work: Callable[[], T]) -> tuple[int, T]:
+    """Run ``work`` on another thread and count the iterations a pure-Python loop on this thread makes
+    meanwhile, with ``work``'s result. Millions when ``work`` releases the GIL; while it holds the GIL the
+    loop only runs between switch intervals (5 ms), a few hundred thousand iterations at most."""
+    started, done = threading.Event(), threading.Event()
+    result: list[T] = []
+
+    def run() -> None:
+        started.set()
+        try:
+            result.append(work())
+        finally:
+            done.set()
+
+    t = threading.Thread(target=run)
+    t.start()
+    started.wait()
+    count = 0
+    while not done.is_set():
+        count += 1
+    t.join()
+    if not result:
+        raise RuntimeError("the work raised on its thread (see the thread's traceback above)")
+    return count, result[0]
 
 
 def model_defaults(name: str) -> dict[str, Any]:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 import struct
-import threading
 from pathlib import Path
 
 import brdfpy
@@ -13,7 +12,7 @@ import numpy as np
 import pytest
 from brdfpy import measured
 
-from conftest import unit
+from conftest import python_spins_during, unit
 from oracle import measured as om
 
 
@@ -180,32 +179,14 @@ def test_fit_refuses_bad_requests_naming_the_argument() -> None:
         measured.fit("lambert", l, v, [0, 0, 1], f[:3], start={"albedo": 0.5})
 
 
-def test_python_threads_run_during_a_fit() -> None:
-    before = brdfpy.get_num_threads()
-    brdfpy.set_num_threads(1)  # leave the second core to the Python thread
-    try:
-        truth = brdfpy.model("cook_torrance", roughness=0.3)
-        l, v, f = _samples(truth, 60_000, 0.0, 9)
-        started, done = threading.Event(), threading.Event()
-
-        result: list[measured.FitResult] = []
-
-        def work() -> None:
-            started.set()
-            start = {"roughness": 0.9, "ks": 0.2, "kd": 0.3}
-            result.append(measured.fit("cook_torrance", l, v, [0, 0, 1], f, start=start))
-            done.set()
-
-        t = threading.Thread(target=work)
-        t.start()
-        started.wait()
-        count = 0
-        while not done.is_set():
-            count += 1
-        t.join()
-    finally:
-        brdfpy.set_num_threads(before)
+def test_python_threads_run_during_a_fit(one_thread: None) -> None:
+    truth = brdfpy.model("cook_torrance", roughness=0.3)
+    l, v, f = _samples(truth, 60_000, 0.0, 9)
+    start = {"roughness": 0.9, "ks": 0.2, "kd": 0.3}
+    count, result = python_spins_during(
+        lambda: measured.fit("cook_torrance", l, v, [0, 0, 1], f, start=start)
+    )
     # A fit of ~0.4 s: with the GIL held this loop would get a few switch intervals (5 ms) at most.
     assert count > 100_000, count
     # This many samples take the parallel residual path; it must find the same answer.
-    assert result[0]["values"]["roughness"] == pytest.approx(0.3, abs=1e-4)
+    assert result["values"]["roughness"] == pytest.approx(0.3, abs=1e-4)

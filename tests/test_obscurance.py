@@ -13,13 +13,13 @@ error is then compared with the Monte-Carlo standard error ``sigma_mu / sqrt(sam
 
 from __future__ import annotations
 
-import threading
-from collections.abc import Iterator
 from pathlib import Path
 
 import brdfpy
 import numpy as np
 import pytest
+
+from conftest import python_spins_during
 
 
 def mu(d: np.ndarray, tau: float, d_max: float) -> np.ndarray:
@@ -206,13 +206,6 @@ def test_zero_normal_vertex_is_unobscured() -> None:
 # --------------------------------------------------------------------------------------- determinism
 
 
-@pytest.fixture
-def restore_threads() -> Iterator[None]:
-    before = brdfpy.get_num_threads()
-    yield
-    brdfpy.set_num_threads(before)
-
-
 def test_bit_identical_at_any_thread_count_and_repeatable(restore_threads: None) -> None:
     cow = brdfpy.builtin_mesh("cow")
     results = []
@@ -240,23 +233,9 @@ def test_default_d_max_is_a_quarter_of_the_diagonal() -> None:
     assert np.array_equal(cow.compute_obscurance(samples=8), cow.compute_obscurance(d_max=d, samples=8))
 
 
-def test_releases_the_gil(restore_threads: None) -> None:
-    brdfpy.set_num_threads(1)
+def test_releases_the_gil(one_thread: None) -> None:
     mesh = brdfpy.icosphere(5)
-    started, done = threading.Event(), threading.Event()
-
-    def work() -> None:
-        started.set()
-        mesh.compute_obscurance(d_max=0.5, samples=128)
-        done.set()
-
-    t = threading.Thread(target=work)
-    t.start()
-    started.wait()
-    count = 0
-    while not done.is_set():
-        count += 1
-    t.join()
+    count, _ = python_spins_during(lambda: mesh.compute_obscurance(d_max=0.5, samples=128))
     assert count > 100_000, count  # held, the loop would run only between switch intervals
 
 

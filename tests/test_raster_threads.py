@@ -3,7 +3,6 @@ triangles are rasterized in submission order within a tile; no order-dependent f
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from typing import Any
 
 import brdfpy
@@ -11,13 +10,6 @@ import numpy as np
 import pytest
 
 from raster_oracle import geometry as og
-
-
-@pytest.fixture
-def restore_threads() -> Iterator[None]:
-    before = brdfpy.get_num_threads()
-    yield
-    brdfpy.set_num_threads(before)
 
 
 def canonical_scene() -> brdfpy.Scene:

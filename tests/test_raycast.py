@@ -9,8 +9,6 @@ through the meshes of a scene in order, and results do not depend on the number 
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import brdfpy
 import numpy as np
 import pytest
@@ -241,13 +239,6 @@ def test_stats_bounds_and_repr() -> None:
     np.testing.assert_allclose(hi, 1, atol=1e-3)
     assert rc.build_seconds >= 0
     assert "5120 triangles" in repr(rc)
-
-
-@pytest.fixture
-def restore_threads() -> Iterator[None]:
-    before = brdfpy.get_num_threads()
-    yield
-    brdfpy.set_num_threads(before)
 
 
 def test_results_are_bit_identical_at_any_thread_count(restore_threads: None) -> None:

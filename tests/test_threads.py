@@ -3,7 +3,6 @@ inputs; batch.rs splits work into fixed chunks)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from typing import Any
 
 import brdfpy
@@ -41,12 +40,6 @@ def batch() -> dict[str, np.ndarray]:
         "n": n.astype(np.float32),
         "tangent": rng.normal(size=(BATCH, 3)).astype(np.float32),
     }
-
-
-@pytest.fixture
-def restore_threads() -> Iterator[None]:
-    yield
-    brdfpy.set_num_threads(2)
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c[0] + "".join(f"-{v}" for v in c[1].values()) for c in CASES])
