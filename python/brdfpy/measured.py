@@ -73,6 +73,13 @@ class Tabulated:
         r3: tuple[int, int, int] = (res[0], res[1], res[2])
         return cls._wrap(_brdfpy.Tabulated.from_model(model, r3))
 
+    def as_model(self) -> Model:
+        """This table as a :class:`brdfpy.Model` named ``"measured"`` (no parameters, physical, isotropic):
+        a material for :meth:`brdfpy.Scene.add` (seed 003, "Rendering from Measured BRDF": look-up with
+        interpolation during rendering), and a model for :mod:`brdfpy.checks` and batch evaluation. The
+        model holds its own copy of the table."""
+        return Model("measured", _table=self._inner)
+
     @classmethod
     def load_merl(cls, path: str | os.PathLike[str]) -> Tabulated:
         """Read a MERL ``.binary`` file (3 little-endian int32 dimensions, then float64 values per channel,

@@ -145,12 +145,21 @@ class Model(_brdfpy.Model):
         return out.reshape(3) if single else out
 
     def __reduce__(self) -> tuple[Any, ...]:
-        # Pickle by name and resolved parameters (e.g. for multiprocessing).
+        # Pickle by name and resolved parameters (e.g. for multiprocessing); a measured model by its table.
+        table = self._measured_table()
+        if table is not None:
+            return (_rebuild_measured, (table,))
         return (_rebuild, (self.name, self.params))
 
 
 def _rebuild(name: str, params: dict[str, Any]) -> Model:
     return Model(name, **params)
+
+
+def _rebuild_measured(table: NDArray[np.float32]) -> Model:
+    from brdfpy.measured import Tabulated
+
+    return Tabulated(table).as_model()
 
 
 def model(name: str, /, **params: ParamValue) -> Model:

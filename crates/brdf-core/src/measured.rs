@@ -35,6 +35,8 @@ use std::io::{Read, Write};
 
 use glam::{Vec3, Vec3A};
 
+use crate::models::{Bxdf, ModelKind};
+use crate::params::{ModelSpec, Params};
 use crate::{BrdfError, Geometry, Model};
 
 /// MERL's channel scale factors (`BRDFRead.cpp`: `RED_SCALE = 1.0/1500`, `GREEN_SCALE = 1.15/1500`,
@@ -102,6 +104,45 @@ fn check_dims((n_th, n_td, n_pd): (usize, usize, usize)) -> Result<(), BrdfError
         }
     }
     Ok(())
+}
+
+/// A [`Tabulated`] BRDF as a [`Model`] (`Model::Measured`), so that a measured material renders,
+/// evaluates in batches and goes through the checks like any analytic one. The table is shared, not
+/// copied, between clones (a MERL table is 17.5 MB).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measured(pub std::sync::Arc<Tabulated>);
+
+impl Bxdf for Measured {
+    const SPEC: ModelSpec = ModelSpec {
+        name: "measured",
+        summary: "tabulated isotropic BRDF on the MERL half/difference grid, trilinear look-up",
+        source: "seed 003 (Rendering from Measured BRDF); Rusinkiewicz 1998; Matusik et al. 2003",
+        physical: true,
+        anisotropic: false,
+        params: &[],
+    };
+    const KIND: ModelKind = ModelKind::Physical;
+
+    /// Not buildable from parameters: a measured model is built from its table
+    /// (`Model::from(Measured(Arc::new(table)))`).
+    fn from_params(_: &Params) -> Result<Self, BrdfError> {
+        Err(BrdfError::InvalidInput {
+            name: "name",
+            problem: "\"measured\" is built from a table (brdfpy.measured.Tabulated.as_model()), not by name"
+                .to_string(),
+        })
+    }
+
+    #[inline]
+    fn f(&self, g: &Geometry) -> Vec3 {
+        self.0.eval(g)
+    }
+}
+
+impl From<Tabulated> for Model {
+    fn from(t: Tabulated) -> Self {
+        Model::Measured(Measured(std::sync::Arc::new(t)))
+    }
 }
 
 /// An isotropic BRDF tabulated on the MERL grid (see the module docs); RGB `f_r` [1/sr].
@@ -315,6 +356,37 @@ mod tests {
             ],
         )
         .unwrap()
+    }
+
+    #[test]
+    fn a_table_as_a_model_evaluates_as_the_table_one_by_one_and_in_batches() {
+        use crate::batch::{Directions, Quantity, evaluate};
+        let table = Tabulated::from_model(&ct(), (16, 16, 32)).unwrap();
+        let model = Model::from(table.clone());
+        assert_eq!((model.spec().name, model.spec().physical), ("measured", true));
+        let dirs: Vec<Vec3> = hemisphere(64, 89.0).into_iter().map(Vec3::from).collect();
+        let (mut ls, mut vs) = (Vec::new(), Vec::new());
+        for &l in &dirs {
+            for &v in dirs.iter().step_by(7) {
+                ls.push(l);
+                vs.push(v);
+            }
+        }
+        // Below the horizon too: 0 there, like every physical model.
+        ls.push(Vec3::new(0.3, 0.1, -0.5));
+        vs.push(Vec3::new(0.0, 0.2, 1.0));
+        let n = [Vec3::Z];
+        let (batch_dirs, len) = Directions::new(&ls, &vs, &n, None).unwrap();
+        let mut out = vec![Vec3::ZERO; len];
+        evaluate(&model, &batch_dirs, Quantity::Brdf, &mut out);
+        for ((&l, &v), &o) in ls.iter().zip(&vs).zip(&out) {
+            let g = Geometry::new(l, v, Vec3::Z, None).unwrap();
+            assert_eq!(model.eval(&g), table.eval(&g));
+            assert_eq!(o.to_array().map(f32::to_bits), model.eval(&g).to_array().map(f32::to_bits));
+        }
+        assert_eq!(*out.last().unwrap(), Vec3::ZERO);
+        let e = Model::build("measured", &[]).unwrap_err().to_string();
+        assert!(e.contains("unknown model"), "{e}");
     }
 
     /// Deterministic directions over the hemisphere (a Fibonacci spiral), `n = +z`.

@@ -28,6 +28,13 @@ pub struct Tabulated {
     inner: CoreTabulated,
 }
 
+impl Tabulated {
+    /// The core table.
+    pub fn core(&self) -> &CoreTabulated {
+        &self.inner
+    }
+}
+
 #[pymethods]
 impl Tabulated {
     /// From a float32 C-contiguous array of shape `(n_theta_h, n_theta_d, n_phi_d, 3)`, values f_r [1/sr].

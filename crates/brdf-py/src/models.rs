@@ -209,6 +209,24 @@ impl Model {
     #[new]
     #[pyo3(signature = (name, /, **params))]
     fn new(name: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        // A measured model is built from its table (`Tabulated.as_model()` passes it as `_table`), not
+        // from registry parameters.
+        if let Some(table) = params.map(|d| d.get_item("_table")).transpose()?.flatten() {
+            let table = table.cast::<crate::measured::Tabulated>()?;
+            if name != "measured" || params.is_some_and(|d| d.len() > 1) {
+                return Err(invalid(
+                    "_table: only for Model(\"measured\", _table=...), with no other parameter",
+                ));
+            }
+            let inner = brdf_core::Model::from(table.get().core().clone());
+            let params = Params::resolve(inner.spec(), &[]).map_err(to_py)?;
+            return Ok(Self { inner, params });
+        }
+        if name == "measured" {
+            return Err(invalid(
+                "name: \"measured\" is built from a table: brdfpy.measured.Tabulated(...).as_model()",
+            ));
+        }
         let inputs = to_inputs(params)?;
         let inner = brdf_core::Model::build(name, &inputs).map_err(to_py)?;
         let params = Params::resolve(inner.spec(), &inputs).map_err(to_py)?;
@@ -277,7 +295,21 @@ impl Model {
         })
     }
 
+    /// The table of a measured model, float32 `(n_theta_h, n_theta_d, n_phi_d, 3)` (for pickling);
+    /// `None` for the other models.
+    fn _measured_table<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, numpy::PyArrayDyn<f32>>>> {
+        use numpy::PyArrayMethods;
+        let brdf_core::Model::Measured(m) = &self.inner else { return Ok(None) };
+        let (a, b, c) = m.0.dims();
+        let flat: &[f32] = bytemuck::cast_slice(m.0.data());
+        Ok(Some(numpy::PyArray1::from_slice(py, flat).reshape(vec![a, b, c, 3])?))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        if let brdf_core::Model::Measured(m) = &self.inner {
+            let (a, b, c) = m.0.dims();
+            return Ok(format!("brdfpy.measured.Tabulated(shape=({a}, {b}, {c})).as_model()"));
+        }
         let mut s = format!("brdfpy.model({:?}", self.inner.spec().name);
         let params = self.params(py)?;
         for (k, v) in params.iter() {

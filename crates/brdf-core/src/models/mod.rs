@@ -150,14 +150,22 @@ pub trait ModelVisitor {
 }
 
 macro_rules! define_models {
-    ($($variant:ident($ty:ty)),+ $(,)?) => {
-        /// Any registered model, for dispatch by name. Batch loops match once and then run a loop
-        /// monomorphised for the model (see [`Model::visit`]).
+    (
+        $($variant:ident($ty:ty)),+ $(,)?
+        ; data: $($dvariant:ident($dty:ty)),+ $(,)?
+    ) => {
+        /// Any model: a registered one (built by name from parameters), or a data-driven one (built
+        /// from data, such as a measured table, and not in the registry). Batch loops match once and
+        /// then run a loop monomorphised for the model (see [`Model::visit`]).
         #[derive(Debug, Clone, PartialEq)]
         pub enum Model {
             $(
                 #[doc = concat!("See [`", stringify!($ty), "`].")]
                 $variant($ty),
+            )+
+            $(
+                #[doc = concat!("See [`", stringify!($dty), "`] (data-driven, not in the registry).")]
+                $dvariant($dty),
             )+
         }
 
@@ -183,6 +191,7 @@ macro_rules! define_models {
             pub fn spec(&self) -> &'static ModelSpec {
                 match self {
                     $(Model::$variant(_) => &<$ty as Bxdf>::SPEC,)+
+                    $(Model::$dvariant(_) => &<$dty as Bxdf>::SPEC,)+
                 }
             }
 
@@ -191,6 +200,7 @@ macro_rules! define_models {
             pub fn eval(&self, g: &Geometry) -> Vec3 {
                 match self {
                     $(Model::$variant(m) => eval_model(m, g),)+
+                    $(Model::$dvariant(m) => eval_model(m, g),)+
                 }
             }
 
@@ -199,6 +209,7 @@ macro_rules! define_models {
             pub fn shade(&self, g: &Geometry) -> Vec3 {
                 match self {
                     $(Model::$variant(m) => shade_model(m, g),)+
+                    $(Model::$dvariant(m) => shade_model(m, g),)+
                 }
             }
 
@@ -208,6 +219,7 @@ macro_rules! define_models {
             pub fn visit<V: ModelVisitor>(&self, visitor: V) -> V::Output {
                 match self {
                     $(Model::$variant(m) => visitor.visit(m),)+
+                    $(Model::$dvariant(m) => visitor.visit(m),)+
                 }
             }
         }
@@ -216,6 +228,13 @@ macro_rules! define_models {
             impl From<$ty> for Model {
                 fn from(m: $ty) -> Self {
                     Model::$variant(m)
+                }
+            }
+        )+
+        $(
+            impl From<$dty> for Model {
+                fn from(m: $dty) -> Self {
+                    Model::$dvariant(m)
                 }
             }
         )+
@@ -238,7 +257,9 @@ define_models! {
     Strauss(Strauss),
     Ward(Ward),
     AshikhminShirley(AshikhminShirley),
-    Lafortune(Lafortune),
+    Lafortune(Lafortune);
+    // Data-driven models: built from data, not by name (`Model::build` does not know them).
+    data: Measured(crate::measured::Measured),
 }
 
 /// Look up a model's spec by registry name.
