@@ -2,15 +2,23 @@
 //! model", SIGGRAPH '94): the qualitative model ([`OrenNayar`]) and the full model with the
 //! interreflection term ([`OrenNayarFull`]). Seeds 000, 001, 002, 004.
 //!
-//! Both are evaluated from dot products, without building a tangent frame. With `s = l·v − (n·l)(n·v)`
-//! (the dot product of the projections of `l` and `v` onto the tangent plane),
-//! `cos Δφ = s / (sin θ_i sin θ_r)` — seed 000's `dot(normalize(L − (L·N)N), normalize(V − (V·N)N))`.
+//! Both are evaluated without building a tangent frame, from the tangent-plane parts
+//! `w⊥ = w − (n·w)n` of `l` and `v`: `s = l⊥·v⊥ = sin θ_i sin θ_r cos Δφ`, `sin θ = |w⊥|`, and
+//! `cos Δφ = s / (|l⊥||v⊥|)` — seed 000's `dot(normalize(L − (L·N)N), normalize(V − (V·N)N))`.
 //! At normal incidence (`sin θ = 0`) the azimuth is undefined; every term it multiplies then carries a
 //! factor `tan β`, `β²` or `sin β` that is 0, so the value is continuous there and no NaN arises.
+//!
+//! Why components and not the cosines (`s = l·v − (n·l)(n·v)`, `sin θ = √(1 − cos²θ)`, `θ = acos`):
+//! near the normal `l·v` and `(n·l)(n·v)` are both ≈ 1 and their float32 difference keeps only their
+//! rounding, and a float32 cosine ≈ 1 is known to `2^-24` absolute, which `√(1 − c²)` and `acos` turn
+//! into `~2^-24/θ` of angle (β = 0 for θ below 2.4e-4). With `l` near the normal and `v` far from it
+//! the full model's `C2` term `∝ sin α tan β` then came out up to 6 000 ulps off the float64 oracle
+//! where rounding the float32 inputs explains 0.7 ulp. `|w⊥|` and `atan2(|w⊥|, n·w)` are accurate to
+//! a few ulps at every angle. tests/test_oren_nayar_precision.py bounds both models against the oracle.
 
 use std::f32::consts::{FRAC_1_PI, FRAC_2_PI, FRAC_PI_2};
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
@@ -22,6 +30,33 @@ use crate::{BrdfError, Geometry};
 pub fn oren_nayar_a(sigma: f32, c: f32) -> f32 {
     let s2 = sigma * sigma;
     1.0 - 0.5 * s2 / (s2 + c)
+}
+
+/// The tangent-plane part `w⊥ = w − (n·w)n` of a unit direction `w` \[dimensionless, length sin θ\],
+/// given `nw = n·w`.
+#[inline]
+fn tangent_part(w: Vec3A, n: Vec3A, nw: f32) -> Vec3A {
+    w - n * nw
+}
+
+/// `(cos Δφ, 1 − |cos Δφ|)` \[dimensionless\] of the azimuth between the tangent-plane parts `lp`, `vp`
+/// (of lengths `sin_i`, `sin_r`); `(0, 1)` when either is (nearly) 0, where the azimuth is undefined.
+///
+/// `1 − |cos Δφ|` is `|ê_l ∓ ê_v|²/2` of the unit azimuth directions `ê = w⊥/|w⊥|` (− for
+/// `cos Δφ ≥ 0`), not `1 − |cos Δφ|` itself: at opposite (or equal) azimuths that difference keeps only
+/// the rounding of `cos Δφ ≈ ∓1`, and the full model multiplies it by `C3 tan((α+β)/2)`, which grows
+/// like `1/cos` at grazing (1 400 ulps of the terms' summed magnitude at σ = π/2, both directions
+/// within 0.1 rad of the horizon; 5 ulps this way, in a float32 emulation).
+#[inline]
+fn azimuth_cosines(lp: Vec3A, vp: Vec3A, sin_i: f32, sin_r: f32) -> (f32, f32) {
+    let sin_prod = sin_i * sin_r;
+    if sin_prod < f32::MIN_POSITIVE {
+        return (0.0, 1.0);
+    }
+    let cos_dphi = (lp.dot(vp) / sin_prod).clamp(-1.0, 1.0);
+    let (el, ev) = (lp / sin_i, vp / sin_r);
+    let d = if cos_dphi >= 0.0 { el - ev } else { el + ev };
+    (cos_dphi, (0.5 * d.dot(d)).min(1.0))
 }
 
 /// `B` of the qualitative model, `0.45 σ²/(σ² + 0.09)` (Oren & Nayar 1994).
@@ -72,7 +107,8 @@ const SIGMA: ParamSpec = ParamSpec::scalar(
 /// σ is in **radians** (pbrt-v3 and BRDF Explorer sliders take degrees). Since
 /// `sin α sin β = sin θ_i sin θ_r` and `cos β = max(n·l, n·v)`, the angular factor is evaluated
 /// without any trigonometric call as `max(0, cos Δφ) sin α tan β = max(0, s) / max(n·l, n·v)` with
-/// `s = l·v − (n·l)(n·v)` (the form used by Fujii's "improved" O-N and by many shaders). It is
+/// `s = l⊥·v⊥` (Fujii's "improved" O-N and many shaders write it `l·v − (n·l)(n·v)`, which cancels
+/// near the normal: see the module notes). It is
 /// reciprocal. It does not conserve energy exactly: at normal view its albedo is `A` (0.865 for
 /// σ = 20° with c = 0.33); the compensated constant raises it toward the full model's.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,8 +187,9 @@ impl Bxdf for OrenNayar {
 
     #[inline]
     fn f(&self, g: &Geometry) -> Vec3 {
-        // max(0, cos Δφ) sin α tan β = max(0, s) / cos β; cos β = max(n·l, n·v) > 0 here.
-        let s = g.l.dot(g.v) - g.nl * g.nv;
+        // max(0, cos Δφ) sin α tan β = max(0, s) / cos β; cos β = max(n·l, n·v) > 0 here. s = l⊥·v⊥
+        // from components, not l·v − (n·l)(n·v) (two numbers ≈ 1 near the normal: module notes).
+        let s = tangent_part(g.l, g.n, g.nl).dot(tangent_part(g.v, g.n, g.nv));
         let angular = s.max(0.0) / g.nl.max(g.nv);
         self.a_term + self.b_term * angular
     }
@@ -177,8 +214,16 @@ impl Bxdf for OrenNayar {
 /// qualitative `A` — and `ρ²`, because the interreflected light has been reflected twice by facets of
 /// albedo ρ. The paper's form is used here. With `interreflection = false` only `L1` is evaluated.
 ///
-/// Cost: two `acos` (α and β are needed as angles in `C2`, `C3` and `L2`); `tan β` and
-/// `tan((α+β)/2) = (sin α + sin β)/(cos α + cos β)` come from the cosines. The model is reciprocal.
+/// Cost: two `atan2` (α and β are needed as angles in `C2`, `C3` and `L2`; `atan2(|w⊥|, n·w)`, not
+/// `acos(n·w)`, for the module notes' reason); `tan β` and
+/// `tan((α+β)/2) = (sin α + sin β)/(cos α + cos β)` come from the sines `|w⊥|` and cosines `n·w`. Near
+/// grazing `sin α − (2β/π)³` is a difference of two numbers ≈ 1 (it vanishes at α = β = π/2, where
+/// `tan β` is large), so for `β > π/4` it is evaluated from the complements `u = 1 − 2β/π` (from
+/// `atan2(cos β, sin β)`) and `1 − sin α = cos²α/(1 + sin α)` as `u(3 − 3u + u²) − cos²α/(1 + sin α)`;
+/// there, at σ = π/2 with both directions within 0.1 rad of the horizon in opposite azimuths, the
+/// direct difference left 9 000 ulps of the terms' summed magnitude (the value itself crosses zero
+/// there: the model, as published, dips slightly negative) where rounding the float32 inputs explains
+/// 5; 8 now. The model is reciprocal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrenNayarFull {
     /// Facet albedo ρ.
@@ -258,28 +303,38 @@ impl Bxdf for OrenNayarFull {
 
     #[inline]
     fn f(&self, g: &Geometry) -> Vec3 {
-        let (cos_i, cos_r) = (g.nl.min(1.0), g.nv.min(1.0));
-        let sin_i = (1.0 - cos_i * cos_i).max(0.0).sqrt();
-        let sin_r = (1.0 - cos_r * cos_r).max(0.0).sqrt();
-        // α = max(θi, θr) is the angle with the smaller cosine.
-        let (cos_a, sin_a, cos_b, sin_b) =
-            if cos_i < cos_r { (cos_i, sin_i, cos_r, sin_r) } else { (cos_r, sin_r, cos_i, sin_i) };
-        let (alpha, beta) = (cos_a.acos(), cos_b.acos());
+        let (lp, vp) = (tangent_part(g.l, g.n, g.nl), tangent_part(g.v, g.n, g.nv));
+        let (cos_i, cos_r) = (g.nl, g.nv);
+        let (sin_i, sin_r) = (lp.length(), vp.length());
+        // α = max(θi, θr) is the angle with the smaller cosine (ties: the larger sine, so that swapping
+        // l and v picks the same pair).
+        let (cos_a, sin_a, cos_b, sin_b) = if cos_i < cos_r || (cos_i == cos_r && sin_i > sin_r) {
+            (cos_i, sin_i, cos_r, sin_r)
+        } else {
+            (cos_r, sin_r, cos_i, sin_i)
+        };
+        let (alpha, beta) = (sin_a.atan2(cos_a), sin_b.atan2(cos_b));
 
-        // cos Δφ from the tangent-plane projections; undefined (and irrelevant) at normal incidence.
-        let sin_prod = sin_i * sin_r;
-        let cos_dphi =
-            if sin_prod > 1e-7 { ((g.l.dot(g.v) - g.nl * g.nv) / sin_prod).clamp(-1.0, 1.0) } else { 0.0 };
-
+        // cos Δφ and 1 − |cos Δφ| from the tangent-plane projections; undefined (and irrelevant) at
+        // normal incidence, where every term they multiply vanishes: 0 and 1 there.
+        let (cos_dphi, one_minus_abs_cos) = azimuth_cosines(lp, vp, sin_i, sin_r);
         let two_beta_pi = beta * FRAC_2_PI;
         let c2 = self.c2_scale
-            * if cos_dphi >= 0.0 { sin_a } else { sin_a - two_beta_pi * two_beta_pi * two_beta_pi };
+            * if cos_dphi >= 0.0 {
+                sin_a
+            } else if two_beta_pi <= 0.5 {
+                sin_a - two_beta_pi * two_beta_pi * two_beta_pi
+            } else {
+                // sin α − (2β/π)³ = (1 − (1 − u)³) − (1 − sin α) with u = 1 − 2β/π, both small here.
+                let u = cos_b.atan2(sin_b) * FRAC_2_PI;
+                u * (3.0 - 3.0 * u + u * u) - cos_a * cos_a / (1.0 + sin_a)
+            };
         let four_ab = alpha * beta * (2.0 * FRAC_2_PI * FRAC_1_PI); // 4αβ/π²
         let c3 = self.c3_scale * four_ab * four_ab;
         let tan_b = sin_b / cos_b;
         let tan_half_sum = (sin_a + sin_b) / (cos_a + cos_b);
 
-        let l1 = self.c1 + cos_dphi * c2 * tan_b + (1.0 - cos_dphi.abs()) * c3 * tan_half_sum;
+        let l1 = self.c1 + cos_dphi * c2 * tan_b + one_minus_abs_cos * c3 * tan_half_sum;
         let l2 = 1.0 - cos_dphi * two_beta_pi * two_beta_pi;
         self.rho_pi * l1 + self.l2_term * l2
     }

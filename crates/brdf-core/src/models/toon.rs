@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 
+use crate::models::phong::mirror_deficit;
 use crate::models::{Bxdf, ModelKind, classic_f};
 use crate::params::{ModelSpec, ParamSpec, Params};
 use crate::{BrdfError, Geometry};
@@ -71,15 +72,20 @@ impl Toon {
         if self.specular_gate && g.nl <= 0.0 {
             return Vec3::ZERO;
         }
-        let x = match self.specular_mode {
-            // v·r = 2(n·l)(n·v) − l·v.
-            ToonSpecularMode::Phong => 2.0 * g.nl * g.nv - g.l.dot(g.v),
+        let lit = match self.specular_mode {
+            // v·r ≥ t as d ≤ 1 − t with the mirror deficit d = 1 − v·r (phong::mirror_deficit), not
+            // `2(n·l)(n·v) − l·v ≥ t`: that rounds v·r ≈ 1 to a few 2^-24 absolute, which moved the
+            // highlight's edge by up to 5.7e-5 rad at t = 0.9999 (1.8e-6 at t = 0.9) in a float32
+            // emulation, where rounding the float32 inputs moves it by 1.2e-7 (the deficit: 1.3e-6 at
+            // t = 0.9999, most of it t's own float32 rounding; 1.7e-7 at t = 0.9). 1 − t is exact in
+            // float32 for t ≥ 0.5.
+            ToonSpecularMode::Phong => mirror_deficit(g) <= 1.0 - self.specular_threshold,
             ToonSpecularMode::Blinn => match g.h() {
-                Some(h) => g.n.dot(h),
+                Some(h) => g.n.dot(h) >= self.specular_threshold,
                 None => return Vec3::ZERO,
             },
         };
-        if x >= self.specular_threshold { self.specular_color } else { Vec3::ZERO }
+        if lit { self.specular_color } else { Vec3::ZERO }
     }
 }
 
@@ -173,5 +179,39 @@ impl Bxdf for Toon {
     #[inline]
     fn shade(&self, g: &Geometry) -> Vec3 {
         self.diffuse_band(g.nl) + self.specular_level(g)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_phong_highlight_at_threshold_one_lights_exactly_the_mirror_direction() {
+        // v = (−lx, −ly, lz) is l's exact mirror about n = z in float32 too, so v·r = 1 and a threshold of
+        // 1 must light it at every angle; `2(n·l)(n·v) − l·v` rounds v·r to a few ulps of 1, below it for
+        // some of these directions. A direction 1e-3 rad off the mirror stays dark.
+        let toon = Toon {
+            diffuse_color: Vec3::ZERO,
+            diffuse_mid_color: Vec3::ZERO,
+            diffuse_threshold: 0.5,
+            dark_threshold: 0.07,
+            dark_scale: 0.0,
+            specular_color: Vec3::ONE,
+            specular_threshold: 1.0,
+            specular_mode: ToonSpecularMode::Phong,
+            specular_gate: true,
+        };
+        for i in 1..200 {
+            let theta = 1.5 * i as f32 / 200.0;
+            for phi in [0.1_f32, 1.0, 2.5, 4.0] {
+                let l = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+                let g = Geometry::new(l, Vec3::new(-l.x, -l.y, l.z), Vec3::Z, None).unwrap();
+                assert_eq!(toon.specular_level(&g), Vec3::ONE, "theta = {theta}, phi = {phi}");
+                let off = Vec3::new(-l.x, -l.y, l.z + 1e-3).normalize();
+                let g = Geometry::new(l, off, Vec3::Z, None).unwrap();
+                assert_eq!(toon.specular_level(&g), Vec3::ZERO, "theta = {theta}, phi = {phi}");
+            }
+        }
     }
 }
