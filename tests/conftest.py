@@ -75,6 +75,21 @@ def unit(a: np.ndarray) -> np.ndarray:
     return a / np.linalg.norm(a, axis=-1, keepdims=True)
 
 
+#: One unit in the last place of float32 at 1 (the precision tests' unit of error).
+F32_ULP = 2.0**-24
+
+
+def direction(cos_theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Unit vectors at polar cosine ``cos_theta`` from +z and azimuth ``phi`` (float64)."""
+    sin_theta = np.sqrt(np.maximum(0.0, 1.0 - cos_theta**2))
+    return np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), cos_theta], axis=-1)
+
+
+def log_uniform(rng: np.random.Generator, lo: float, hi: float, count: int) -> np.ndarray:
+    """``count`` numbers spread evenly in ``log`` over ``[lo, hi]``."""
+    return np.exp(rng.uniform(np.log(lo), np.log(hi), count))
+
+
 def _orthonormal(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     helper = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
     t = unit(np.cross(helper, n))

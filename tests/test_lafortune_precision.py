@@ -26,23 +26,11 @@ import brdfpy
 import numpy as np
 import pytest
 
+from conftest import F32_ULP, direction, log_uniform, unit
 from oracle import models as om
 
-ULP = 2.0**-24
+ULP = F32_ULP
 COUNT = 20000
-
-
-def _unit(a: np.ndarray) -> np.ndarray:
-    return a / np.linalg.norm(a, axis=-1, keepdims=True)
-
-
-def _direction(cos_theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    sin_theta = np.sqrt(np.maximum(0.0, 1.0 - cos_theta**2))
-    return np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), cos_theta], axis=-1)
-
-
-def _log_uniform(rng: np.random.Generator, lo: float, hi: float, count: int) -> np.ndarray:
-    return np.exp(rng.uniform(np.log(lo), np.log(hi), count))
 
 
 def _adversarial(rng: np.random.Generator, family: str) -> dict[str, np.ndarray]:
@@ -50,20 +38,20 @@ def _adversarial(rng: np.random.Generator, family: str) -> dict[str, np.ndarray]
     random world frame."""
     phi = rng.uniform(0, 2 * np.pi, COUNT)
     if family == "near_normal":  # both within 1e-5 .. 0.05 rad of the normal
-        l = _direction(np.cos(_log_uniform(rng, 1e-5, 0.05, COUNT)), phi)
-        v = _direction(np.cos(_log_uniform(rng, 1e-5, 0.05, COUNT)), rng.uniform(0, 2 * np.pi, COUNT))
+        l = direction(np.cos(log_uniform(rng, 1e-5, 0.05, COUNT)), phi)
+        v = direction(np.cos(log_uniform(rng, 1e-5, 0.05, COUNT)), rng.uniform(0, 2 * np.pi, COUNT))
     else:  # v within 1e-6 .. 0.1 rad of the mirror (or retro) direction of l
         grazing = family.endswith("grazing")
-        cos_l = _log_uniform(rng, 1e-4, 0.1, COUNT) if grazing else rng.uniform(1e-3, 1, COUNT)
-        l = _direction(cos_l, phi)
+        cos_l = log_uniform(rng, 1e-4, 0.1, COUNT) if grazing else rng.uniform(1e-3, 1, COUNT)
+        l = direction(cos_l, phi)
         target = l * [-1.0, -1.0, 1.0] if family.startswith("mirror") else l
-        axis = _unit(np.cross(target, rng.normal(size=target.shape)))
-        turn = _log_uniform(rng, 1e-6, 0.1, COUNT)[:, None]
+        axis = unit(np.cross(target, rng.normal(size=target.shape)))
+        turn = log_uniform(rng, 1e-6, 0.1, COUNT)[:, None]
         v = target * np.cos(turn) + axis * np.sin(turn)
     keep = (l[:, 2] > 0) & (v[:, 2] > 0)
     l, v = l[keep], v[keep]
-    n = _unit(rng.normal(size=l.shape))
-    t = _unit(np.cross(n, rng.normal(size=l.shape)))
+    n = unit(rng.normal(size=l.shape))
+    t = unit(np.cross(n, rng.normal(size=l.shape)))
     b = np.cross(n, t)
 
     def world(w: np.ndarray) -> np.ndarray:

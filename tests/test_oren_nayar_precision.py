@@ -38,15 +38,12 @@ import brdfpy
 import numpy as np
 import pytest
 
+from conftest import F32_ULP, log_uniform
 from oracle import models as om
 
-ULP = 2.0**-24
+ULP = F32_ULP
 COUNT = 20000
 HALF_PI = np.pi / 2
-
-
-def _log_uniform(rng: np.random.Generator, lo: float, hi: float) -> np.ndarray:
-    return np.exp(rng.uniform(np.log(lo), np.log(hi), COUNT))
 
 
 def _local(theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -56,13 +53,13 @@ def _local(theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
 def _angles(rng: np.random.Generator, family: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """theta_i, theta_r and dphi of a family "<polar>/<azimuth>"; the polar pair in random order."""
     polar, azimuth = family.split("/")
-    near = _log_uniform(rng, 1e-5, 0.05)  # within 1e-5 .. 0.05 rad of the normal
-    grazing = HALF_PI - _log_uniform(rng, 1e-4, 0.1)  # within 1e-4 .. 0.1 rad of the horizon
+    near = log_uniform(rng, 1e-5, 0.05, COUNT)  # within 1e-5 .. 0.05 rad of the normal
+    grazing = HALF_PI - log_uniform(rng, 1e-4, 0.1, COUNT)  # within 1e-4 .. 0.1 rad of the horizon
     anywhere = np.arccos(rng.uniform(1e-3, 1, COUNT))
     first, second = {
-        "near_normal": (near, _log_uniform(rng, 1e-5, 0.05)),
+        "near_normal": (near, log_uniform(rng, 1e-5, 0.05, COUNT)),
         "normal_far": (near, anywhere),
-        "grazing": (grazing, HALF_PI - _log_uniform(rng, 1e-4, 0.1)),
+        "grazing": (grazing, HALF_PI - log_uniform(rng, 1e-4, 0.1, COUNT)),
         "grazing_far": (grazing, anywhere),
         "wide": (anywhere, np.arccos(rng.uniform(1e-3, 1, COUNT))),
     }[polar]
