@@ -91,3 +91,16 @@ def test_a_render_does_not_depend_on_the_frames_rendered_before_it() -> None:
         held = scene.render(cam, *size, **options)
         canonical_scene().render(cam, 200, 120)
         assert buffers(held) == kept
+
+
+@pytest.mark.parametrize(("tonemap", "exposure"), [("clamp", 0.0), ("reinhard", 1.0), ("aces", -0.5)])
+def test_the_image_encoded_during_the_render_equals_one_encoded_afterwards(
+    tonemap: str, exposure: float
+) -> None:
+    # Scene.render encodes Image.rgb band by band while rendering; Image.tonemapped encodes the HDR buffer
+    # afterwards. Same bytes.
+    cam = brdfpy.Camera.perspective((0.3, 0.8, 3.5), (0, 0, 0), fovy=50)
+    during = busy_scene().render(cam, 160, 100, tonemap=tonemap, exposure=exposure)
+    after = busy_scene().render(cam, 160, 100)
+    assert np.array_equal(during.rgb, after.tonemapped(tonemap, exposure))
+    assert np.array_equal(during.rgb, during.tonemapped(tonemap, exposure))

@@ -648,9 +648,15 @@ impl RasterFrame {
         if !ev.is_finite() {
             return Err(invalid(format!("exposure: must be finite, got {ev}")));
         }
+        let (h, w) = (self.inner.height as usize, self.inner.width as usize);
+        // The render encoded the image with the frame's own tone map and exposure (the frame cannot
+        // change from Python since): a copy of those bytes.
+        if !self.inner.rgb8.is_empty() && op == self.inner.tonemap && ev == self.inner.exposure {
+            return PyArray1::from_slice(py, &self.inner.rgb8).reshape([h, w, 3]);
+        }
         let p = pool()?;
         let bytes = py.detach(|| p.install(|| self.inner.to_rgb8_with(op, ev)));
-        PyArray1::from_vec(py, bytes).reshape([self.inner.height as usize, self.inner.width as usize, 3])
+        PyArray1::from_vec(py, bytes).reshape([h, w, 3])
     }
 
     /// Linear RGB before tone mapping, float32 (H, W, 3).
@@ -753,6 +759,8 @@ pub fn render_scene(
         combined,
     });
     options.shadows = shadows;
+    // `Image.rgb` is what most scripts read: encode it while each band is in the cache.
+    options.encode_rgb8 = true;
     options.validate().map_err(raster_err)?;
 
     let mut scene = Scene::new();

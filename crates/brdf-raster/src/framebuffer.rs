@@ -87,6 +87,10 @@ pub struct Frame {
     pub tonemap: Operator,
     /// Exposure in stops applied before tone mapping (`c · 2^exposure`).
     pub exposure: f32,
+    /// The 8-bit sRGB image of [`Frame::to_rgb8`] (`height × width × 3` bytes) as encoded during the
+    /// render when [`crate::RenderOptions::encode_rgb8`] asked for it; empty otherwise. It is not updated
+    /// when `hdr`, `tonemap` or `exposure` change afterwards: call [`Frame::to_rgb8`] then.
+    pub rgb8: Vec<u8>,
 }
 
 /// An empty 0 × 0 frame (clamp, exposure 0): a target for [`crate::render::render_into`], which sizes it.
@@ -101,6 +105,7 @@ impl Default for Frame {
             triangle_id: Vec::new(),
             tonemap: Operator::Clamp,
             exposure: 0.0,
+            rgb8: Vec::new(),
         }
     }
 }
@@ -112,6 +117,7 @@ impl Frame {
             + self.depth.capacity() * size_of::<f32>()
             + self.normal.capacity() * size_of::<Vec3>()
             + self.triangle_id.capacity() * size_of::<u32>()
+            + self.rgb8.capacity()
     }
 
     /// Pixel index of column `x`, row `y` (from the top).

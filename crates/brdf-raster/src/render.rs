@@ -45,7 +45,7 @@ use brdf_core::illumination::{SurfacePoint, Terms, radiance, radiance_lanes};
 use brdf_core::lights::Incident;
 use brdf_core::models::{Bxdf, ModelVisitor};
 use brdf_core::simd::{Lane, LaneKernel, V3, run_widest};
-use brdf_core::tonemap::Operator;
+use brdf_core::tonemap::{self, Operator};
 use brdf_core::vector::normalize_or_zero;
 use glam::{DVec3, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
@@ -94,6 +94,10 @@ pub struct RenderOptions {
     pub ao: Option<AoOptions>,
     /// Light visibility δ by shadow rays (seed 004 eq. 12.75). Used by [`render`].
     pub shadows: bool,
+    /// Also encode the 8-bit image ([`Frame::rgb8`]) during the render, band by band while each band's
+    /// HDR colours are still in the cache — cheaper than [`Frame::to_rgb8`] afterwards, which reads the
+    /// whole HDR buffer again.
+    pub encode_rgb8: bool,
 }
 
 impl RenderOptions {
@@ -109,6 +113,7 @@ impl RenderOptions {
             exposure: 0.0,
             ao: None,
             shadows: false,
+            encode_rgb8: false,
         }
     }
 
@@ -239,6 +244,7 @@ pub fn render_with<O: Occlusion>(
         triangle_id: vec![0; n],
         tonemap: options.tonemap,
         exposure: options.exposure,
+        rgb8: if options.encode_rgb8 { bytemuck::zeroed_vec(3 * n) } else { Vec::new() },
     };
     prep.draw(&mut frame, occlusion, progress);
     prep.release();
@@ -289,6 +295,11 @@ pub fn render_with_into<O: Occlusion>(
     fit(&mut frame.depth, n);
     fit(&mut frame.normal, n);
     fit(&mut frame.triangle_id, n);
+    if options.encode_rgb8 {
+        fit(&mut frame.rgb8, 3 * n);
+    } else {
+        frame.rgb8.clear();
+    }
     prep.draw(frame, occlusion, progress);
     prep.release();
     Ok(())
@@ -498,19 +509,36 @@ impl<'a> Prepared<'a> {
         let band_px = BAND_ROWS as usize * w;
         let n_bands = h.div_ceil(BAND_ROWS as usize);
         let done = AtomicUsize::new(0);
-        frame
+        let (scale, op) = (frame.exposure.exp2(), frame.tonemap);
+        let band_work = |scratch: &mut BandScratch, band: usize, out: BandOut<'_>, rgb: Option<&mut [u8]>| {
+            let BandOut { hdr, depth, normal, triangle_id } = out;
+            self.band(band, scratch, BandOut { hdr: &mut *hdr, depth, normal, triangle_id }, occlusion);
+            if let Some(rgb) = rgb {
+                tonemap::encode_srgb8_channels(bytemuck::cast_slice(hdr), scale, op, rgb);
+            }
+            if let Some(cb) = progress {
+                cb((done.fetch_add(1, Ordering::Relaxed) + 1) as f32 / n_bands as f32);
+            }
+        };
+        let bands = frame
             .hdr
             .par_chunks_mut(band_px)
             .zip(frame.depth.par_chunks_mut(band_px))
             .zip(frame.normal.par_chunks_mut(band_px))
             .zip(frame.triangle_id.par_chunks_mut(band_px))
-            .enumerate()
-            .for_each_init(BandScratch::default, |scratch, (band, (((hdr, depth), normal), triangle_id))| {
-                self.band(band, scratch, BandOut { hdr, depth, normal, triangle_id }, occlusion);
-                if let Some(cb) = progress {
-                    cb((done.fetch_add(1, Ordering::Relaxed) + 1) as f32 / n_bands as f32);
-                }
+            .map(|(((hdr, depth), normal), triangle_id)| BandOut { hdr, depth, normal, triangle_id });
+        if frame.rgb8.is_empty() {
+            bands.enumerate().for_each_init(BandScratch::default, |scratch, (band, out)| {
+                band_work(scratch, band, out, None);
             });
+        } else {
+            bands
+                .zip(frame.rgb8.par_chunks_mut(3 * band_px))
+                .enumerate()
+                .for_each_init(BandScratch::default, |scratch, (band, (out, rgb))| {
+                    band_work(scratch, band, out, Some(rgb))
+                });
+        }
     }
 
     /// Reject, clip, cull and set up faces `start..end` of instance `k`.

@@ -446,6 +446,36 @@ fn shading_eight_samples_at_a_time_gives_the_bits_of_shading_one_at_a_time() {
 }
 
 #[test]
+fn the_8_bit_image_encoded_during_the_render_is_the_one_encoded_after_it() {
+    use brdf_core::tonemap::Operator;
+    let scene = canonical_scene(4).unwrap();
+    let camera = canonical_camera();
+    let mut reused = Frame::default();
+    for (op, ev, spp) in [
+        (Operator::Clamp, 0.0, 1),
+        (Operator::Reinhard, 1.5, 4),
+        (Operator::Aces, -0.5, 1),
+        (Operator::ReinhardExtended { white: 3.0 }, 0.0, 9),
+    ] {
+        let options = RenderOptions {
+            tonemap: op,
+            exposure: ev,
+            samples_per_pixel: spp,
+            encode_rgb8: true,
+            ..RenderOptions::new(97, 53)
+        };
+        let frame = render(&scene, &camera, &options).unwrap();
+        assert_eq!(frame.rgb8, frame.to_rgb8(), "{op:?} {ev} {spp}");
+        brdf_raster::render::render_into(&scene, &camera, &options, &mut reused).unwrap();
+        assert_eq!(reused.rgb8, frame.rgb8, "{op:?}: render_into");
+    }
+    // Not asked for: no image kept (and a reused frame drops its old one).
+    brdf_raster::render::render_into(&scene, &camera, &RenderOptions::new(97, 53), &mut reused).unwrap();
+    assert!(reused.rgb8.is_empty());
+    assert!(render(&scene, &camera, &RenderOptions::new(8, 8)).unwrap().rgb8.is_empty());
+}
+
+#[test]
 fn render_into_reuses_a_frame_and_gives_the_same_bits_as_render() {
     let scene = canonical_scene(3).unwrap();
     let camera = canonical_camera();
