@@ -35,6 +35,7 @@ use std::io::{Read, Write};
 
 use glam::{Vec3, Vec3A};
 
+use crate::microfacet::HalfVector;
 use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, Params};
 use crate::{BrdfError, Geometry, Model};
@@ -56,10 +57,24 @@ pub const MAX_NODES_PER_AXIS: usize = 4096;
 /// The difference frame is MERL's: rotate `l` about `n` by `−φ_h`, then about the binormal by `−θ_h`.
 /// Equivalently `d = (l·x', l·y', l·h)` with `y' = normalize(n × h)` and `x' = y' × h`. At `θ_h = 0`
 /// the azimuth reference is arbitrary (any isotropic BRDF is independent of `φ_d` there).
+///
+/// The polar angles come from tangent-plane components, not as `acos` of a cosine:
+/// `θ_h = atan2(|h̃⊥|, n·h̃)` with the un-normalised `h̃ = l + v` ([`HalfVector`]), and
+/// `θ_d = atan2(|l − v|, |l + v|)` (`|l ± v|` = `2 cos θ_d`, `2 sin θ_d` for unit `l`, `v`; `l − v` is
+/// `2 sin θ_d` times the difference direction). `acos` of a float32 cosine near 1 is only good to
+/// `√(2·2^-24)` ≈ 3.5e-4 rad, and both angles are near 0 exactly where a table matters most: the
+/// specular peak (`θ_h` → 0, where the MERL grid's `√θ_h` index spacing turns that into 1.5 cells
+/// at 90 nodes) and the retro direction (`θ_d` → 0). A float32 emulation of the `acos` forms was off
+/// by 4e-4 rad in both angles, where rounding the inputs to float32 moves them by 2e-7; these forms
+/// stay at that floor (1.9e-7 rad), and the look-up of a sharp Cook–Torrance table (roughness 0.05,
+/// MERL resolution) near its peak went from 3.2e-4 relative off a float64 look-up to 1.1e-5, where
+/// rounding the inputs alone moves it by 9.5e-6 (tests/test_measured.py). Both angles are
+/// bit-for-bit symmetric in `l` and `v`; `φ_d` keeps its definition and computation.
 pub fn half_diff_angles(l: Vec3A, v: Vec3A, n: Vec3A) -> Option<(f32, f32, f32)> {
     let h = crate::vector::halfway(l, v)?;
-    let cos_h = n.dot(h).clamp(-1.0, 1.0);
-    let theta_h = cos_h.acos();
+    let half = HalfVector::<f32>::from_directions(l.into(), v.into(), n.into());
+    let theta_h = half.perp2.sqrt().atan2(half.n_dot);
+    let theta_d = (l - v).length().atan2(half.len2.sqrt());
     let axis = n.cross(h);
     let y = if axis.length_squared() > 1e-12 {
         axis.normalize()
@@ -67,8 +82,7 @@ pub fn half_diff_angles(l: Vec3A, v: Vec3A, n: Vec3A) -> Option<(f32, f32, f32)>
         crate::frame::ShadingFrame::from_normal(h).b
     };
     let x = y.cross(h);
-    let (dx, dy, dz) = (l.dot(x), l.dot(y), l.dot(h));
-    let theta_d = dz.clamp(-1.0, 1.0).acos();
+    let (dx, dy) = (l.dot(x), l.dot(y));
     let mut phi_d = dy.atan2(dx);
     if phi_d < 0.0 {
         phi_d += PI;
@@ -413,6 +427,35 @@ mod tests {
                 assert!((c - pd).abs() < 1e-4, "{pd} -> {c}");
             }
         }
+    }
+
+    #[test]
+    fn half_and_difference_angles_near_zero_are_accurate_to_the_float32_input_rounding() {
+        // The specular peak (θ_h → 0) and the retro direction (θ_d → 0): directions built in float64 at
+        // known angles from 1e-7 rad up, rounded to float32. Rounding the inputs moves the angles by
+        // ~1e-7 rad (an ulp of a unit vector's components over |l + v| ≥ 0.34); acos of a float32
+        // cosine near 1 was off by up to 4e-4 rad (√(2·2^-24) at the angle 0).
+        use glam::DVec3;
+        let mut worst = (0.0f64, 0.0f64);
+        for i in 0..3000 {
+            let k = f64::from(i);
+            let theta_h = 1e-7 * 1e6f64.powf((k * 0.618_034) % 1.0);
+            let theta_d =
+                if i % 2 == 0 { 1e-7 * 1e6f64.powf((k * 0.414_214) % 1.0) } else { (k * 0.377) % 1.4 };
+            let (phi_h, phi_d) = (k * 2.399, (k * 1.3) % std::f64::consts::PI);
+            let h = DVec3::new(theta_h.sin() * phi_h.cos(), theta_h.sin() * phi_h.sin(), theta_h.cos());
+            let y = DVec3::new(-phi_h.sin(), phi_h.cos(), 0.0);
+            let d = theta_d.sin() * (phi_d.cos() * y.cross(h) + phi_d.sin() * y);
+            let (l, v) = (theta_d.cos() * h + d, theta_d.cos() * h - d);
+            if l.z <= 0.0 || v.z <= 0.0 {
+                continue;
+            }
+            let (a, b, _) = half_diff_angles(l.as_vec3a(), v.as_vec3a(), Vec3A::Z).unwrap();
+            let (ea, eb) = ((f64::from(a) - theta_h).abs(), (f64::from(b) - theta_d).abs());
+            assert!(ea < 4e-7 && eb < 4e-7, "theta_h {theta_h:e} -> {a:e}, theta_d {theta_d:e} -> {b:e}");
+            worst = (worst.0.max(ea), worst.1.max(eb));
+        }
+        eprintln!("largest angle errors near 0: theta_h {:.2e}, theta_d {:.2e} rad", worst.0, worst.1);
     }
 
     #[test]

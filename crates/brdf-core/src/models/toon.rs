@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 
+use crate::microfacet::HalfVector;
 use crate::models::phong::mirror_deficit;
 use crate::models::{Bxdf, ModelKind, classic_f};
 use crate::params::{ModelSpec, ParamSpec, Params};
@@ -80,10 +81,24 @@ impl Toon {
             // t = 0.9999, most of it t's own float32 rounding; 1.7e-7 at t = 0.9). 1 − t is exact in
             // float32 for t ≥ 0.5.
             ToonSpecularMode::Phong => mirror_deficit(g) <= 1.0 - self.specular_threshold,
-            ToonSpecularMode::Blinn => match g.h() {
-                Some(h) => g.n.dot(h) >= self.specular_threshold,
-                None => return Vec3::ZERO,
-            },
+            // n·h ≥ t as 1 − n·h ≤ 1 − t with 1 − n·h = |h̃⊥|²/(|h̃|(|h̃| + n·h̃)) from the un-normalised
+            // h̃ = l + v (microfacet::HalfVector), not `n·normalize(l + v) ≥ t`: that rounds n·h ≈ 1 to
+            // a few 2^-24 absolute, which moved the highlight's edge by up to 1.2e-5 rad at t = 0.9999
+            // (2.7e-7 at t = 0.9, 1.3e-4 at t = 0.999999) in a float32 emulation; this form moves it
+            // by 5.7e-8 (4.5e-8, 1.1e-7), what rounding the float32 inputs alone does (5.7e-8, 3.9e-8,
+            // 1.1e-7). l = −v has no half vector (h̃ = 0): unlit, as before.
+            ToonSpecularMode::Blinn => {
+                let h = HalfVector::<f32>::from_directions(g.l.into(), g.v.into(), g.n.into());
+                if h.len2 <= 1e-20 {
+                    return Vec3::ZERO;
+                }
+                let len = h.len2.sqrt();
+                // 1 − cos θ_h = sin²θ_h/(1 + cos θ_h) cancels nothing where h is above the surface;
+                // below it (a threshold < 0) 1 − n·h ≥ 1 has nothing to lose either.
+                let deficit =
+                    if h.n_dot > 0.0 { h.perp2 / (len * (len + h.n_dot)) } else { 1.0 - h.n_dot / len };
+                deficit <= 1.0 - self.specular_threshold
+            }
         };
         if lit { self.specular_color } else { Vec3::ZERO }
     }
@@ -186,22 +201,29 @@ impl Bxdf for Toon {
 mod tests {
     use super::*;
 
-    #[test]
-    fn a_phong_highlight_at_threshold_one_lights_exactly_the_mirror_direction() {
-        // v = (−lx, −ly, lz) is l's exact mirror about n = z in float32 too, so v·r = 1 and a threshold of
-        // 1 must light it at every angle; `2(n·l)(n·v) − l·v` rounds v·r to a few ulps of 1, below it for
-        // some of these directions. A direction 1e-3 rad off the mirror stays dark.
-        let toon = Toon {
+    use glam::DVec3;
+
+    /// Specular only: black diffuse bands, white highlight.
+    fn specular_only(specular_mode: ToonSpecularMode, specular_threshold: f32) -> Toon {
+        Toon {
             diffuse_color: Vec3::ZERO,
             diffuse_mid_color: Vec3::ZERO,
             diffuse_threshold: 0.5,
             dark_threshold: 0.07,
             dark_scale: 0.0,
             specular_color: Vec3::ONE,
-            specular_threshold: 1.0,
-            specular_mode: ToonSpecularMode::Phong,
+            specular_threshold,
+            specular_mode,
             specular_gate: true,
-        };
+        }
+    }
+
+    #[test]
+    fn a_phong_highlight_at_threshold_one_lights_exactly_the_mirror_direction() {
+        // v = (−lx, −ly, lz) is l's exact mirror about n = z in float32 too, so v·r = 1 and a threshold of
+        // 1 must light it at every angle; `2(n·l)(n·v) − l·v` rounds v·r to a few ulps of 1, below it for
+        // some of these directions. A direction 1e-3 rad off the mirror stays dark.
+        let toon = specular_only(ToonSpecularMode::Phong, 1.0);
         for i in 1..200 {
             let theta = 1.5 * i as f32 / 200.0;
             for phi in [0.1_f32, 1.0, 2.5, 4.0] {
@@ -212,6 +234,56 @@ mod tests {
                 let g = Geometry::new(l, off, Vec3::Z, None).unwrap();
                 assert_eq!(toon.specular_level(&g), Vec3::ZERO, "theta = {theta}, phi = {phi}");
             }
+        }
+    }
+
+    #[test]
+    fn a_blinn_highlight_at_threshold_one_lights_exactly_the_mirror_direction() {
+        // For v = (−lx, −ly, lz) and n = z, h̃ = l + v = (0, 0, 2lz) in float32 too: h = n, n·h = 1. The
+        // normalised n·h can round to 1 − 2^-24 (|h̃| = √(4lz²) need not be 2lz); |h̃⊥|² is exactly 0.
+        let toon = specular_only(ToonSpecularMode::Blinn, 1.0);
+        for i in 1..200 {
+            let theta = 1.5 * i as f32 / 200.0;
+            for phi in [0.1_f32, 1.0, 2.5, 4.0] {
+                let l = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+                let g = Geometry::new(l, Vec3::new(-l.x, -l.y, l.z), Vec3::Z, None).unwrap();
+                assert_eq!(toon.specular_level(&g), Vec3::ONE, "theta = {theta}, phi = {phi}");
+                let off = Vec3::new(-l.x, -l.y, l.z + 1e-3).normalize();
+                let g = Geometry::new(l, off, Vec3::Z, None).unwrap();
+                assert_eq!(toon.specular_level(&g), Vec3::ZERO, "theta = {theta}, phi = {phi}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_blinn_highlight_edge_sits_where_n_dot_h_crosses_the_threshold() {
+        // Half vectors 2e-6 rad inside or outside the edge θ_h = acos(t), t = 0.9999 (θ_h = 0.014), for l
+        // and v all around it, in a tilted frame: built in float64 and rounded to float32, which moves θ_h
+        // by ~1e-7 rad (the input floor; a float32 emulation of this form moves the edge by 5.7e-8).
+        // `n·normalize(l + v) ≥ t` rounds n·h ≈ 1 to a few 2^-24, i.e. a few 2^-24/sin θ_h ≈ 1e-5 rad
+        // of θ_h: it puts some of these on the wrong side.
+        let t = 0.9999_f32;
+        let toon = specular_only(ToonSpecularMode::Blinn, t);
+        let edge = f64::from(t).acos();
+        let n = DVec3::new(0.3, -0.5, 0.8).normalize();
+        let (tx, ty) = n.any_orthonormal_pair();
+        let world = |w: DVec3| (w.x * tx + w.y * ty + w.z * n).as_vec3();
+        for i in 0..4000 {
+            let k = f64::from(i);
+            let inside = i % 2 == 0;
+            let theta_h = if inside { edge - 2e-6 } else { edge + 2e-6 };
+            let (phi_h, theta_d, phi_d) = (k * 2.399, (k * 0.377) % 1.4, k * 1.3);
+            let h = DVec3::new(theta_h.sin() * phi_h.cos(), theta_h.sin() * phi_h.sin(), theta_h.cos());
+            let y = DVec3::new(-phi_h.sin(), phi_h.cos(), 0.0);
+            let x = y.cross(h);
+            let d = theta_d.sin() * (phi_d.cos() * x + phi_d.sin() * y);
+            let (l, v) = (world(theta_d.cos() * h + d), world(theta_d.cos() * h - d));
+            let g = Geometry::new(l, v, n.as_vec3(), None).unwrap();
+            if g.nl <= 0.0 {
+                continue;
+            }
+            let want = if inside { Vec3::ONE } else { Vec3::ZERO };
+            assert_eq!(toon.specular_level(&g), want, "theta_h = edge {:+e}, i = {i}", theta_h - edge);
         }
     }
 }
