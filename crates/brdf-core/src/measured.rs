@@ -69,7 +69,7 @@ pub const MAX_NODES_PER_AXIS: usize = 4096;
 /// stay at that floor (1.9e-7 rad), and the look-up of a sharp Cook–Torrance table (roughness 0.05,
 /// MERL resolution) near its peak went from 3.2e-4 relative off a float64 look-up to 1.1e-5, where
 /// rounding the inputs alone moves it by 9.5e-6 (tests/test_measured.py). Both angles are
-/// bit-for-bit symmetric in `l` and `v`; `φ_d` keeps its definition and computation.
+/// bit-for-bit symmetric in `l` and `v`.
 pub fn half_diff_angles(l: Vec3A, v: Vec3A, n: Vec3A) -> Option<(f32, f32, f32)> {
     let h = crate::vector::halfway(l, v)?;
     let half = HalfVector::<f32>::from_directions(l.into(), v.into(), n.into());
@@ -82,7 +82,13 @@ pub fn half_diff_angles(l: Vec3A, v: Vec3A, n: Vec3A) -> Option<(f32, f32, f32)>
         crate::frame::ShadingFrame::from_normal(h).b
     };
     let x = y.cross(h);
-    let (dx, dy) = (l.dot(x), l.dot(y));
+    // The azimuth of l − v = 2 sin θ_d (cos φ_d x' + sin φ_d y') rather than of l: the same angle, but
+    // l·x' and l·y' are ~sin θ_d from components ~1, so near the retro direction (θ_d → 0) they keep
+    // the rounding of those products, 2^-24/sin θ_d rad of φ_d (a float32 emulation: 3.5× the input
+    // floor, median, at θ_d < 1e-3); l − v is exact there (close floats) and small, and stays at the
+    // floor. A table hardly depends on φ_d at θ_d → 0, so this is for the angle's own sake.
+    let w = l - v;
+    let (dx, dy) = (w.dot(x), w.dot(y));
     let mut phi_d = dy.atan2(dx);
     if phi_d < 0.0 {
         phi_d += PI;
@@ -434,9 +440,10 @@ mod tests {
         // The specular peak (θ_h → 0) and the retro direction (θ_d → 0): directions built in float64 at
         // known angles from 1e-7 rad up, rounded to float32. Rounding the inputs moves the angles by
         // ~1e-7 rad (an ulp of a unit vector's components over |l + v| ≥ 0.34); acos of a float32
-        // cosine near 1 was off by up to 4e-4 rad (√(2·2^-24) at the angle 0).
+        // cosine near 1 was off by up to 4e-4 rad (√(2·2^-24) at the angle 0), and φ_d as the azimuth
+        // of l rather than of l − v by ~2^-24/sin θ_d (a few times the input floor).
         use glam::DVec3;
-        let mut worst = (0.0f64, 0.0f64);
+        let mut worst = (0.0f64, 0.0f64, 0.0f64);
         for i in 0..3000 {
             let k = f64::from(i);
             let theta_h = 1e-7 * 1e6f64.powf((k * 0.618_034) % 1.0);
@@ -450,12 +457,38 @@ mod tests {
             if l.z <= 0.0 || v.z <= 0.0 {
                 continue;
             }
-            let (a, b, _) = half_diff_angles(l.as_vec3a(), v.as_vec3a(), Vec3A::Z).unwrap();
+            let (a, b, c) = half_diff_angles(l.as_vec3a(), v.as_vec3a(), Vec3A::Z).unwrap();
             let (ea, eb) = ((f64::from(a) - theta_h).abs(), (f64::from(b) - theta_d).abs());
             assert!(ea < 4e-7 && eb < 4e-7, "theta_h {theta_h:e} -> {a:e}, theta_d {theta_d:e} -> {b:e}");
-            worst = (worst.0.max(ea), worst.1.max(eb));
+            worst = (worst.0.max(ea), worst.1.max(eb), worst.2);
+            // φ_d is the azimuth of l − v, of length 2 sin θ_d, in a frame turned with n × h (exact for
+            // n = z): rounding the inputs moves it by ~6e-8/sin θ_d. The floor is that, for these
+            // float32 inputs: φ_d of them in float64. Below |n × h| = 1e-6 the azimuth reference is
+            // arbitrary (a fixed frame around h).
+            if theta_h < 2e-6 {
+                continue;
+            }
+            let (l32, v32) = (l.as_vec3().as_dvec3(), v.as_vec3().as_dvec3());
+            let h32 = (l32 + v32).normalize();
+            let y32 = DVec3::Z.cross(h32).normalize();
+            let w32 = l32 - v32;
+            let azimuth = |p: f64| {
+                let e = (p - phi_d).rem_euclid(std::f64::consts::PI);
+                e.min(std::f64::consts::PI - e)
+            };
+            let floor = azimuth(w32.dot(y32).atan2(w32.dot(y32.cross(h32))));
+            let ec = azimuth(f64::from(c));
+            let bound = 4.0 * floor + 8.0 * f64::from(f32::EPSILON / 2.0);
+            assert!(
+                ec <= bound,
+                "phi_d {phi_d} -> {c} (floor {floor:e}) at theta_h {theta_h:e}, theta_d {theta_d:e}"
+            );
+            worst.2 = worst.2.max(ec / bound);
         }
-        eprintln!("largest angle errors near 0: theta_h {:.2e}, theta_d {:.2e} rad", worst.0, worst.1);
+        eprintln!(
+            "largest errors near 0: theta_h {:.2e}, theta_d {:.2e} rad; phi_d {:.2} of its bound",
+            worst.0, worst.1, worst.2
+        );
     }
 
     #[test]
