@@ -85,6 +85,21 @@ def direction(cos_theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), cos_theta], axis=-1)
 
 
+def in_random_frame(rng: np.random.Generator, l: np.ndarray, v: np.ndarray) -> dict[str, np.ndarray]:
+    """Local-frame ``l``, ``v`` (normal +z; rows with both above the surface kept) turned to a random world
+    frame: ``{"l", "v", "n", "tangent"}`` in float64."""
+    keep = (l[:, 2] > 0) & (v[:, 2] > 0)
+    l, v = l[keep], v[keep]
+    n = unit(rng.normal(size=l.shape))
+    t = unit(np.cross(n, rng.normal(size=l.shape)))
+    b = np.cross(n, t)
+
+    def world(w: np.ndarray) -> np.ndarray:
+        return w[:, :1] * t + w[:, 1:2] * b + w[:, 2:3] * n
+
+    return {"l": world(l), "v": world(v), "n": n, "tangent": t}
+
+
 def log_uniform(rng: np.random.Generator, lo: float, hi: float, count: int) -> np.ndarray:
     """``count`` numbers spread evenly in ``log`` over ``[lo, hi]``."""
     return np.exp(rng.uniform(np.log(lo), np.log(hi), count))

@@ -26,7 +26,7 @@ import brdfpy
 import numpy as np
 import pytest
 
-from conftest import F32_ULP, direction, log_uniform, unit
+from conftest import F32_ULP, direction, in_random_frame, log_uniform, unit
 from oracle import models as om
 
 ULP = F32_ULP
@@ -48,16 +48,7 @@ def _adversarial(rng: np.random.Generator, family: str) -> dict[str, np.ndarray]
         axis = unit(np.cross(target, rng.normal(size=target.shape)))
         turn = log_uniform(rng, 1e-6, 0.1, COUNT)[:, None]
         v = target * np.cos(turn) + axis * np.sin(turn)
-    keep = (l[:, 2] > 0) & (v[:, 2] > 0)
-    l, v = l[keep], v[keep]
-    n = unit(rng.normal(size=l.shape))
-    t = unit(np.cross(n, rng.normal(size=l.shape)))
-    b = np.cross(n, t)
-
-    def world(w: np.ndarray) -> np.ndarray:
-        return w[:, :1] * t + w[:, 1:2] * b + w[:, 2:3] * n
-
-    return {"l": world(l), "v": world(v), "n": n, "tangent": t}
+    return in_random_frame(rng, l, v)
 
 
 #: (name, one lobe [cx, cy, cz, n], the families where it is non-zero): Phong's lobe at a large exponent, a

@@ -38,7 +38,7 @@ import brdfpy
 import numpy as np
 import pytest
 
-from conftest import F32_ULP, direction, log_uniform, unit
+from conftest import F32_ULP, direction, in_random_frame, log_uniform, unit
 from oracle import models as om
 
 ULP = F32_ULP
@@ -63,16 +63,9 @@ def _adversarial(rng: np.random.Generator, family: str) -> dict[str, np.ndarray]
         axis = unit(np.cross(mirror, rng.normal(size=mirror.shape)))
         turn = log_uniform(rng, 1e-7, 0.2, COUNT)[:, None]
         v = mirror * np.cos(turn) + axis * np.sin(turn)
-    keep = (l[:, 2] > 0) & (v[:, 2] > 0)
-    l, v = l[keep], v[keep]
-    n = unit(rng.normal(size=l.shape))
-    t = unit(np.cross(n, rng.normal(size=l.shape)))
-    b = np.cross(n, t)
-
-    def world(w: np.ndarray) -> np.ndarray:
-        return w[:, :1] * t + w[:, 1:2] * b + w[:, 2:3] * n
-
-    return {"l": world(l), "v": world(v), "n": n}
+    g = in_random_frame(rng, l, v)
+    del g["tangent"]
+    return g
 
 
 def _strauss_rj_sensitivity(g: om.Geo, params: dict) -> np.ndarray:

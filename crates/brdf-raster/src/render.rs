@@ -231,23 +231,10 @@ pub fn render_with<O: Occlusion>(
     occlusion: &O,
     progress: Option<&(dyn Fn(f32) + Sync)>,
 ) -> Result<Frame, RasterError> {
-    let prep = Prepared::new(scene, camera, options, occlusion)?;
-    let n = options.width as usize * options.height as usize;
-    let mut frame = Frame {
-        width: options.width,
-        height: options.height,
-        // Zeroed allocations (pages are mapped lazily, on first write, by the band that owns them);
-        // every element is overwritten by its band.
-        hdr: bytemuck::zeroed_vec(n),
-        depth: vec![0.0; n],
-        normal: bytemuck::zeroed_vec(n),
-        triangle_id: vec![0; n],
-        tonemap: options.tonemap,
-        exposure: options.exposure,
-        rgb8: if options.encode_rgb8 { bytemuck::zeroed_vec(3 * n) } else { Vec::new() },
-    };
-    prep.draw(&mut frame, occlusion, progress);
-    prep.release();
+    // An empty frame: `render_with_into` allocates its buffers zeroed (pages are mapped lazily, on first
+    // write, by the band that owns them).
+    let mut frame = Frame::default();
+    render_with_into(scene, camera, options, occlusion, progress, &mut frame)?;
     Ok(frame)
 }
 
@@ -283,7 +270,7 @@ pub fn render_with_into<O: Occlusion>(
     frame.tonemap = options.tonemap;
     frame.exposure = options.exposure;
     // Every element is overwritten by its band, so the old contents need neither clearing nor, when a
-    // buffer is too small, copying into a larger one.
+    // buffer is too small, copying into a larger one (a fresh zeroed allocation maps its pages lazily).
     fn fit<T: bytemuck::Zeroable + Clone>(buf: &mut Vec<T>, n: usize) {
         if buf.capacity() < n {
             *buf = bytemuck::zeroed_vec(n);
@@ -965,8 +952,8 @@ impl LaneQueue {
                 F::from_fn(|i| if i < count { 1.0 } else { 0.0 }).gt(F::splat(0.5))
             };
             let c = radiance_lanes(m, terms, &prep.scene.lights, p, n, prep.view_lanes(p), active);
-            // `+ indirect` of `illuminate`, which is zero without occlusion.
-            let c = c + V3::splat(Vec3::ZERO);
+            // `illuminate` adds `indirect`, zero without occlusion: adding 0 changes no bit (the
+            // radiance starts from non-negative terms, so it is never −0).
             for j in 0..count {
                 let i = self.index[start + j] as usize;
                 hdr[i] = c.lane(j);
