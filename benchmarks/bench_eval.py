@@ -16,6 +16,12 @@ sample does the full work), seeded. Each figure is the median of ``--repeats`` r
 Targets (issue 2): Cook-Torrance (GGX, Smith, Schlick) at N = 10^7 at least 50× the NumPy oracle and at
 least 40 % of the floor's rate.
 
+Small calls (issue 8): the fixed cost of one ``Model.eval`` call, in µs, on 1 and 100 rows (float32
+``(k, 3)`` arrays; ``(3,)`` vectors for ``v`` and ``n``; and Python lists), with and without ``out=``,
+next to NumPy's own fixed cost measured in the same run: one ufunc call on the same arrays
+(``np.multiply(l, v)``, which allocates its result as ``Model.eval`` does) and ``np.multiply(l, v,
+out=buf)``. Each figure is the best of 5 loops of many calls (the least disturbed by other processes).
+
 Run ``python benchmarks/run.py`` (all benchmarks, JSON in ``benchmarks/results/``) or this file alone.
 """
 
@@ -106,10 +112,68 @@ def floor_fn(l: F32, v: F32, n: F32, threads: int) -> Callable[[], None]:
     return run
 
 
+def per_call_us(fn: Callable[[], object], calls: int) -> float:
+    """Best of 5 loops of ``calls`` calls, in µs per call."""
+    fn()
+    best = float("inf")
+    for _ in range(5):
+        t0 = time.perf_counter()
+        for _ in range(calls):
+            fn()
+        best = min(best, time.perf_counter() - t0)
+    return best / calls * 1e6
+
+
+def small_calls(calls: int) -> list[dict[str, Any]]:
+    """The fixed cost of a call: ``Model.eval`` on 1 and 100 rows against NumPy's own per-call cost."""
+    m = brdfpy.model("cook_torrance")
+    rows = []
+    print("-- small calls (1 thread): us per call; NumPy's cost for one ufunc call on the same arrays")
+    before = brdfpy.get_num_threads()
+    brdfpy.set_num_threads(1)
+    try:
+        for k in (1, 100):
+            l, v, n = directions(k, 7)
+            v1, n1 = v[0].copy(), n[0].copy()
+            buf = np.empty_like(l)
+            ll, vl, nl = l.tolist(), v1.tolist(), n1.tolist()
+            numpy_alloc = per_call_us(lambda l=l, v=v: np.multiply(l, v), calls)
+            numpy_out = per_call_us(lambda l=l, v=v, b=buf: np.multiply(l, v, out=b), calls)
+            cases: list[tuple[str, Callable[[], object]]] = [
+                ("eval(l, v, n) (k,3) arrays", lambda l=l, v=v, n=n: m.eval(l, v, n)),
+                ("eval(l, v[0], n[0]) (3,) v, n", lambda l=l, v=v1, n=n1: m.eval(l, v, n)),
+                ("eval(l, v, n, out=buf)", lambda l=l, v=v, n=n, b=buf: m.eval(l, v, n, out=b)),
+                ("eval(lists)", lambda l=ll, v=vl, n=nl: m.eval(l, v, n)),
+            ]
+            print(f"   k={k:<4d} numpy.multiply {numpy_alloc:6.2f} us, with out= {numpy_out:6.2f} us")
+            for label, fn in cases:
+                us = per_call_us(fn, calls)
+                rows.append(
+                    {
+                        "rows": k,
+                        "call": label,
+                        "us_per_call": us,
+                        "numpy_multiply_us": numpy_alloc,
+                        "numpy_multiply_out_us": numpy_out,
+                        "x_numpy_multiply": us / numpy_alloc,
+                    }
+                )
+                print(f"   k={k:<4d} {label:32s} {us:6.2f} us  = {us / numpy_alloc:5.2f} x numpy.multiply")
+    finally:
+        brdfpy.set_num_threads(None if before == os.cpu_count() else before)
+    return rows
+
+
 def bench(
-    sizes: Sequence[int], threads: Sequence[int], repeats: int, oracle_n: int, seed: int = 0
+    sizes: Sequence[int],
+    threads: Sequence[int],
+    repeats: int,
+    oracle_n: int,
+    seed: int = 0,
+    calls: int = 20_000,
 ) -> dict[str, Any]:
     results: list[dict[str, Any]] = []
+    small = small_calls(calls)
     load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
     lo, vo, no = directions(oracle_n, seed + 1)
     oracle: dict[str, float] = {}
@@ -183,6 +247,7 @@ def bench(
         "of 1 thread and the same number of Python threads as brdfpy (floor_threads says which)",
         "targets": {"model": "cook_torrance_ggx_smith_schlick", "n": 10**7, "x_oracle": 50, "pct_floor": 40},
         "results": results,
+        "small_calls": small,
     }
 
 
@@ -202,6 +267,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         [int(s) for s in a.threads.split(",")],
         a.repeats,
         a.oracle_n,
+        calls=200 if a.quick else 20_000,
     )
     if a.json:
         Path(a.json).write_text(json.dumps(result, indent=2) + "\n")

@@ -15,6 +15,7 @@ from typing import Any
 import brdfpy
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 from raster_oracle import camera as ocam
 from raster_oracle import geometry as og
@@ -31,7 +32,7 @@ def floor_points() -> np.ndarray:
 
 
 def render(scene: brdfpy.Scene, **kw: Any) -> brdfpy.Image:
-    return scene.render(brdfpy.Camera.orthographic(**TOP_DOWN), N, N, shading="phong", **kw)
+    return scene.render(brdfpy.Camera.orthographic(**TOP_DOWN), N, N, shading="phong", **kw, outputs="all")
 
 
 def ambient_floor(size: float = 5.0, subdivisions: int = 10) -> brdfpy.Scene:
@@ -200,3 +201,62 @@ def test_shadows_fall_where_the_occluder_blocks_the_light(kind: str) -> None:
     out = check & ~want_dark
     np.testing.assert_allclose(shadowed[out], lit[out], rtol=1e-6)  # unaffected
     assert (lit[in_shadow] > 0.06).all()  # the light does reach those points without shadows
+
+
+@pytest.mark.parametrize("shading", ["flat", "gouraud"])
+def test_shadows_fall_per_pixel_whatever_the_shading_mode(shading: str) -> None:
+    # A floor of two triangles (centroids and corners all far from the shadow) under a slanted sun, a
+    # sphere above it: the floor's shadow must be where Phong shading puts it, pixel for pixel, not
+    # decided once per triangle (flat) or vertex (Gouraud).
+    s = brdfpy.Scene(ambient_light=0.2)
+    s.add(brdfpy.plane(5.0, 1), "lambert", ambient=0.2)
+    s.add(brdfpy.icosphere(3), "lambert", ambient=0.2, transform=brdfpy.transforms.translate((0, 1, 0)))
+    s.add_light(brdfpy.DirectionalLight((1, -1, 0)))
+    cam = brdfpy.Camera.orthographic(**TOP_DOWN)
+    phong = s.render(cam, N, N, shading="phong", shadows=True, outputs="all")
+    other = s.render(cam, N, N, shading=shading, shadows=True, outputs="all")
+    floor = np.asarray(phong.triangle_id) < 2
+    hdr_p, hdr_o = np.asarray(phong.hdr)[floor], np.asarray(other.hdr)[floor]
+    assert (hdr_p[:, 0] < 0.1).sum() > 100  # a real shadow on the floor
+    np.testing.assert_allclose(hdr_o, hdr_p, rtol=1e-5, atol=1e-6)
+
+
+def test_renders_in_a_loop_reuse_the_bvh_and_obscurance_until_the_geometry_changes() -> None:
+    # A turntable: the camera and the lights move, the geometry does not, so the BVH and the per-vertex
+    # obscurance are prepared once. Moving an instance or editing a mesh prepares them again.
+    def build(offset: float = 0.0) -> brdfpy.Scene:
+        s = brdfpy.Scene(ambient_light=0.3)
+        s.add(brdfpy.plane(5.0, 8), "lambert", ambient=0.5)
+        s.add(
+            brdfpy.icosphere(3), "lambert", ambient=0.5, transform=brdfpy.transforms.translate((offset, 1, 0))
+        )
+        s.add_light(brdfpy.DirectionalLight((1, -1, 0)))
+        return s
+
+    def shot(s: brdfpy.Scene, angle: float = 0.0) -> NDArray[np.uint8]:
+        eye = (5 * np.sin(angle), 4.0, 5 * np.cos(angle))
+        cam = brdfpy.Camera.perspective(eye, (0, 0, 0), fovy=40)
+        return s.render(cam, 64, 48, ao={"samples": 8, "d_max": 1.0}, shadows=True).rgb
+
+    s = build()
+    shot(s)
+    hits, misses = brdfpy._brdfpy.occlusion_cache_info()
+    for k in range(3):
+        s.lights[0] = brdfpy.DirectionalLight((1, -1, 0.2 * k))
+        shot(s, 0.3 * k)
+    assert brdfpy._brdfpy.occlusion_cache_info() == (hits + 3, misses)
+    # Moved: prepared again, and the shadow and obscurance follow (the image of a scene built with the
+    # sphere there).
+    s.lights[0] = brdfpy.DirectionalLight((1, -1, 0))
+    assert brdfpy._brdfpy.occlusion_cache_info() == (hits + 3, misses)
+    s.instances[1].transform = brdfpy.transforms.translate((0.7, 1, 0))
+    moved = shot(s)
+    assert brdfpy._brdfpy.occlusion_cache_info() == (hits + 3, misses + 1)
+    shot(s, 0.5)
+    assert brdfpy._brdfpy.occlusion_cache_info() == (hits + 4, misses + 1)
+    assert np.array_equal(moved, shot(build(0.7)))
+    # An edited mesh is another mesh.
+    shot(s)
+    s.instances[1].mesh.flip_winding()
+    shot(s)
+    assert brdfpy._brdfpy.occlusion_cache_info() == (hits + 4, misses + 4)

@@ -16,7 +16,7 @@ DIRS = np.array([[0.3, 0.2, 1.0], [-0.4, 0.1, 0.9], [0.0, -0.7, 0.7], [0.9, 0.0,
 
 
 def test_single_vectors_give_a_single_rgb_and_batches_give_n_by_3_float32():
-    m = brdfpy.model("lambert", albedo=(0.8, 0.5, 0.2))
+    m = brdfpy.model("lambert", kd=(0.8, 0.5, 0.2))
     one = m.eval([0, 0, 1], [0, 0.6, 0.8], [0, 0, 1])
     assert one.shape == (3,) and one.dtype == np.float32
     np.testing.assert_allclose(one, np.array([0.8, 0.5, 0.2]) / np.pi, rtol=1e-6)
@@ -67,7 +67,7 @@ def test_set_num_threads_refuses_nonsense(n):
 @pytest.mark.parametrize(
     ("kwargs", "exc", "needle"),
     [
-        ({"l": np.zeros((5, 4))}, ValueError, r"l: expected shape \(N, 3\) or \(3,\), got \(5, 4\)"),
+        ({"l": np.zeros((5, 4))}, ValueError, r"l: expected an array of shape \(\.\.\., 3\).*got \(5, 4\)"),
         ({"v": [[0, 0, 1], [1, 2]]}, ValueError, "v: "),
         ({"n": np.zeros((0, 3))}, ValueError, "n: is empty"),
         ({"l": ["a", "b", "c"]}, TypeError, "l: "),
@@ -90,7 +90,7 @@ def test_bad_arrays_raise_an_error_that_names_the_argument(kwargs, exc, needle):
 def test_a_nan_deep_inside_a_large_batch_is_reported_with_its_row():
     l = np.tile(np.float32([0, 0, 1]), (200_000, 1))
     l[123_456, 2] = np.nan
-    with pytest.raises(ValueError, match="row 123456"):
+    with pytest.raises(ValueError, match=r"at l\[123456\]: \[0\.0, 0\.0, nan\]"):
         brdfpy.model("lambert").eval(l, [0, 0, 1], [0, 0, 1])
 
 
@@ -103,14 +103,15 @@ def test_degenerate_directions_give_zero_not_nan():
     ("name", "params", "exc", "needle"),
     [
         ("nope", {}, ValueError, "nope.*lambert"),
-        ("lambert", {"albedoo": 0.5}, ValueError, "albedoo"),
+        ("lambert", {"kdd": 0.5}, ValueError, "kdd"),
+        ("lambert", {"albedo": 0.5}, ValueError, "no parameter 'albedo': the diffuse reflectance is 'kd'"),
         ("cook_torrance", {"roughness": -0.1}, ValueError, "roughness"),
         ("oren_nayar", {"sigma": -0.1}, ValueError, "sigma"),
         ("cook_torrance", {"ior": 0.0}, ValueError, "ior"),
         ("cook_torrance", {"distribution": "nope"}, ValueError, "distribution"),
-        ("lambert", {"albedo": {}}, TypeError, "albedo"),
-        ("lambert", {"albedo": [0.1, 0.2]}, ValueError, "albedo"),
-        ("lambert", {"albedo": float("nan")}, ValueError, "albedo"),
+        ("lambert", {"kd": {}}, TypeError, "kd"),
+        ("lambert", {"kd": [0.1, 0.2]}, ValueError, "kd"),
+        ("lambert", {"kd": float("nan")}, ValueError, "kd"),
         ("lafortune", {"lobes": [[-1, -1, 1, 20], [1, 2]]}, ValueError, "lobes"),
     ],
 )
@@ -122,7 +123,7 @@ def test_bad_models_and_parameters_raise_an_error_that_names_them(name, params, 
 def test_brdf_errors_are_value_errors():
     assert issubclass(brdfpy.BrdfError, ValueError)
     with pytest.raises(brdfpy.BrdfError):
-        brdfpy.model("lambert", albedo=2.0)
+        brdfpy.model("lambert", kd=2.0)
 
 
 def test_params_are_echoed_resolved_and_the_repr_rebuilds_the_model():

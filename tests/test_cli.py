@@ -57,26 +57,55 @@ def test_gallery_option_o_writes_where_asked_and_every_sphere_is_lit(tmp_path):
 def test_light_from_the_right_makes_the_right_half_of_a_lambert_sphere_brighter(tmp_path):
     out = tmp_path / "g.png"
     args = ["--models", "lambert", "--size", "64", "--ambient", "0", "-o", str(out)]
-    assert cli.main(["gallery", *args, "--light", "1,0,0.2"]) == 0
+    assert cli.main(["gallery", *args, "--light", "from:1,0,0.2"]) == 0
     img = _png(out).astype(float)
     sphere = img[8 : 8 + 64, 8 : 8 + 64].sum(axis=-1)
     assert sphere[:, 40:56].mean() > sphere[:, 8:24].mean() + 50
+    # The same light by its direction of travel (the spelling of `brdfpy render --light dir:`).
+    assert cli.main(["gallery", *args, "--light", "dir:-1,0,-0.2"]) == 0
+    assert np.array_equal(_png(out).astype(float), img)
     # Negative components work without "=" (argparse would otherwise take them for an option).
-    assert cli.main(["gallery", *args, "--light", "-1,0,0.2"]) == 0
+    assert cli.main(["gallery", *args, "--light", "from:-1,0,0.2"]) == 0
     flipped = _png(out).astype(float)[8 : 8 + 64, 8 : 8 + 64].sum(axis=-1)
     assert flipped[:, 8:24].mean() > flipped[:, 40:56].mean() + 50
+
+
+def test_gallery_default_light_comes_from_the_upper_right_front(tmp_path):
+    a, b = tmp_path / "a.png", tmp_path / "b.png"
+    base = ["gallery", "--models", "lambert", "--size", "32"]
+    assert cli.main([*base, "-o", str(a)]) == 0
+    assert cli.main([*base, "--light", "from:1,1,1", "-o", str(b)]) == 0
+    assert np.array_equal(_png(a), _png(b))
+
+
+def test_a_bare_gallery_light_direction_is_refused_as_ambiguous(tmp_path, capsys):
+    # Before, `--light X,Y,Z` meant the direction toward the light in the gallery and nothing in render.
+    assert cli.main(["gallery", "--light", "1,0,0.2", "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert "ambiguous" in err and "dir:1,0,0.2" in err and "from:1,0,0.2" in err
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_render_gallery_takes_a_directional_light_and_explains_three_numbers():
+    with pytest.raises(TypeError, match=r"DirectionalLight\(\(-1.0, 0.0, 0.0\)\)"):
+        gallery.render_gallery(["lambert"], light=(1, 0, 0), size=16)
+    with pytest.raises(ValueError, match="exposure"):
+        gallery.render_gallery(["lambert"], light=brdfpy.DirectionalLight((-1, 0, 0), 2.0), size=16)
+    right = gallery.render_gallery(["lambert"], light=brdfpy.DirectionalLight((-1, 0, 0)), size=32, ambient=0)
+    sphere = right[8:40, 8:40].astype(float).sum(axis=-1)
+    assert sphere[:, 20:30].mean() > sphere[:, 2:12].mean() + 50
 
 
 def test_param_changes_the_rendering_and_is_validated(tmp_path, capsys):
     a, b = tmp_path / "a.png", tmp_path / "b.png"
     base = ["gallery", "--models", "lambert", "--size", "32"]
     assert cli.main([*base, "-o", str(a)]) == 0
-    assert cli.main([*base, "--param", "lambert.albedo=0.9,0.1,0.1", "-o", str(b)]) == 0
+    assert cli.main([*base, "--param", "lambert.kd=0.9,0.1,0.1", "-o", str(b)]) == 0
     red = _png(b).astype(int)[8 + 16, 8 + 16]
     assert red[0] > red[1] + 60 and not np.array_equal(_png(a), _png(b))
-    assert cli.main([*base, "--param", "lambert.albedo=-1", "-o", str(b)]) == 2
-    assert "albedo" in capsys.readouterr().err
-    assert cli.main([*base, "--param", "albedo=0.5", "-o", str(b)]) == 2
+    assert cli.main([*base, "--param", "lambert.kd=-1", "-o", str(b)]) == 2
+    assert "kd" in capsys.readouterr().err
+    assert cli.main([*base, "--param", "kd=0.5", "-o", str(b)]) == 2
     assert "MODEL.KEY=VALUE" in capsys.readouterr().err
     assert cli.main([*base, "--param", "ward.alpha_x=0.1", "-o", str(b)]) == 2
     assert "ward" in capsys.readouterr().err
@@ -86,8 +115,10 @@ def test_param_changes_the_rendering_and_is_validated(tmp_path, capsys):
     ("args", "needle"),
     [
         (["--models", "nope"], "nope"),
-        (["--light", "0,0,0"], "light"),
-        (["--light", "1,2"], "light"),
+        (["--light", "dir:0,0,0"], "light"),
+        (["--light", "dir:1,2"], "light"),
+        (["--light", "point:1,2,3"], "--light"),
+        (["--light", "dir:0,0,-1:2,2,2"], "exposure"),
         (["--size", "3"], "size"),
         (["--ambient", "-1"], "ambient"),
     ],
@@ -127,12 +158,16 @@ def test_console_script_is_installed():
     assert brdfpy.__version__ in done.stdout
 
 
-def test_sphere_geometry_gives_unit_normals_facing_the_viewer_and_tangents_around_the_view_axis():
+def test_sphere_geometry_gives_unit_normals_facing_the_viewer_and_tangents_around_the_vertical_axis():
     mask, n, t = gallery.sphere_geometry(33)
     assert mask.shape == (33, 33) and n.shape == (mask.sum(), 3) == t.shape
     np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, rtol=1e-6)
     assert (n[:, 2] > 0).all()
     np.testing.assert_allclose(np.einsum("ij,ij->i", n, t), 0.0, atol=1e-6)
+    # Circles of latitude around +y: horizontal, and vanishing nowhere inside the disc but near its top and
+    # bottom (|n_y| -> 1), not at its centre.
+    assert np.all(t[:, 1] == 0)
+    assert np.linalg.norm(t[np.abs(n[:, 1]) < 0.9], axis=1).min() > 0.4
     # Row 0 is the top of the image: its normals point up (+y).
     assert n[: mask[0].sum(), 1].min() > 0.5
 

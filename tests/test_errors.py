@@ -33,7 +33,7 @@ def call(method: str, **over: Any) -> Any:
 BAD_ARRAYS: list[tuple[str, Any]] = [
     ("wrong width", np.zeros((5, 4), np.float32)),
     ("1-D of length 2", np.zeros(2, np.float32)),
-    ("3-D", np.zeros((2, 3, 3), np.float32)),
+    ("3-D of width 4", np.zeros((2, 3, 4), np.float32)),
     ("scalar", np.float32(1.0)),
     ("empty", np.zeros((0, 3), np.float32)),
     ("ragged", [[0.0, 0.0, 1.0], [0.0, 1.0]]),
@@ -91,9 +91,9 @@ BAD_PARAMS: list[tuple[str, str, Any]] = [
     ("oren_nayar", "sigma", float("inf")),
     ("oren_nayar", "variant", "quantitative"),
     ("oren_nayar_full", "sigma", -0.2),
-    ("lambert", "albedo", "red"),
-    ("lambert", "albedo", [0.1, 0.2]),
-    ("lambert", "albedo", [0.1, float("nan"), 0.2]),
+    ("lambert", "kd", "red"),
+    ("lambert", "kd", [0.1, 0.2]),
+    ("lambert", "kd", [0.1, float("nan"), 0.2]),
     ("phong", "shininess", -1.0),
     ("blinn_phong", "normalization", "none-such"),
     ("ward", "alpha_x", -0.01),
@@ -140,15 +140,15 @@ def test_fresnel_refuses_bad_cosines_and_metals() -> None:
 def test_microfacet_refuses_bad_roughness_and_names() -> None:
     h = GOOD
     with pytest.raises(ValueError, match=names("alpha")):
-        brdfpy.microfacet.distribution("ggx", h, N, -0.3)
+        brdfpy.microfacet.distribution(h, N, -0.3)
     with pytest.raises(ValueError, match=names("alpha")):
-        brdfpy.microfacet.distribution("beckmann", h, N, 0.0)
+        brdfpy.microfacet.distribution(h, N, 0.0, distribution="beckmann")
     with pytest.raises(ValueError, match="lorentz"):
-        brdfpy.microfacet.distribution("lorentz", h, N, 0.3)
+        brdfpy.microfacet.distribution(h, N, 0.3, distribution="lorentz")
     with pytest.raises(ValueError, match="smithy"):
-        brdfpy.microfacet.masking("smithy", h, h, N, 0.3)
+        brdfpy.microfacet.masking(h, h, N, 0.3, masking="smithy")
     with pytest.raises(ValueError, match=names("h")):
-        brdfpy.microfacet.distribution("ggx", np.zeros((3, 2), np.float32), N, 0.3)
+        brdfpy.microfacet.distribution(np.zeros((3, 2), np.float32), N, 0.3)
 
 
 def test_tonemap_refuses_bad_white_point_and_operator() -> None:

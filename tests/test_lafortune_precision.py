@@ -73,10 +73,10 @@ def test_lobes_stay_at_the_float32_floor_in_adversarial_geometry(
     rng = np.random.default_rng(sum(f"{name}/{family}".encode()))
     g64 = _adversarial(rng, family)
     g32 = {k: a.astype(np.float32) for k, a in g64.items()}
-    params = {"rho_d": 0.0, "rho_s": 1.0, "lobes": [row], "power": "exact"}
+    params = {"kd": 0.0, "ks": 1.0, "lobes": [row], "power": "exact"}
     want = om.evaluate("lafortune", params, **g64)[:, 0]
     rounded = om.evaluate("lafortune", params, **{k: a.astype(np.float64) for k, a in g32.items()})[:, 0]
-    got = brdfpy.model("lafortune", rho_d=0.0, rho_s=1.0, lobes=[row]).eval(**g32)[:, 0].astype(np.float64)
+    got = brdfpy.model("lafortune", kd=0.0, ks=1.0, lobes=[row]).eval(**g32)[:, 0].astype(np.float64)
     # Samples that matter: within 1e-6 of the family's largest value, and far from float32's underflow.
     compared = (want > 1e-6 * want.max()) & (want > 1e-30)
     assert compared.sum() >= 100, f"only {compared.sum()} samples inside the lobe"

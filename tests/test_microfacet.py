@@ -57,7 +57,7 @@ def test_distribution_matches_oracle(
 ) -> None:
     g = half_vectors(rng, 5000)
     kwargs: dict[str, Any] = {} if alpha_y is None else {"alpha_y": alpha_y, "tangent": g["tangent"]}
-    got = np.asarray(brdfpy.microfacet.distribution(name, g["h"], g["n"], alpha, **kwargs))
+    got = np.asarray(brdfpy.microfacet.distribution(g["h"], g["n"], alpha, distribution=name, **kwargs))
     assert got.shape == (5000,) and got.dtype == np.float32
     want = oracle_d(name, g, alpha, alpha_y)
     assert_close(got, want, what=f"D {name} alpha={alpha} alpha_y={alpha_y}")
@@ -65,8 +65,8 @@ def test_distribution_matches_oracle(
 
 def test_isotropic_distribution_ignores_the_tangent(rng: np.random.Generator) -> None:
     g = half_vectors(rng, 1000)
-    a = brdfpy.microfacet.distribution("ggx", g["h"], g["n"], 0.3)
-    b = brdfpy.microfacet.distribution("ggx", g["h"], g["n"], 0.3, alpha_y=0.3, tangent=g["tangent"])
+    a = brdfpy.microfacet.distribution(g["h"], g["n"], 0.3)
+    b = brdfpy.microfacet.distribution(g["h"], g["n"], 0.3, alpha_y=0.3, tangent=g["tangent"])
     np.testing.assert_allclose(a, b, rtol=1e-5)
 
 
@@ -74,7 +74,7 @@ def test_distribution_is_zero_below_the_surface() -> None:
     h = np.array([[0.0, 0.6, -0.8], [1.0, 0.0, 0.0]], np.float32)
     n = np.array([0.0, 0.0, 1.0], np.float32)
     for name in ("beckmann", "ggx", "gaussian", "blinn_phong", "ward"):
-        d = brdfpy.microfacet.distribution(name, h, n, 0.3)
+        d = brdfpy.microfacet.distribution(h, n, 0.3, distribution=name)
         assert np.all(d == 0), name
 
 
@@ -91,7 +91,9 @@ def pairs(rng: np.random.Generator, count: int) -> dict[str, np.ndarray]:
 )
 def test_masking_matches_oracle(masking: str, dist: str, alpha: float, rng: np.random.Generator) -> None:
     g = pairs(rng, 5000)
-    got = np.asarray(brdfpy.microfacet.masking(masking, g["l"], g["v"], g["n"], alpha, distribution=dist))
+    got = np.asarray(
+        brdfpy.microfacet.masking(g["l"], g["v"], g["n"], alpha, masking=masking, distribution=dist)
+    )
     assert got.shape == (5000,)
     geo = om.geometry(*(g[k].astype(np.float64) for k in ("l", "v", "n")))
     want = om.masking(masking, geo, alpha, dist)
@@ -106,12 +108,12 @@ def test_smith_forms_agree_in_the_smooth_limit_and_separable_is_smaller() -> Non
     l = np.array([0.954, 0.0, 0.3], np.float32)
     v = np.array([-0.954, 0.0, 0.3], np.float32)
     for alpha in (1.0, 0.5, 0.1):
-        corr = brdfpy.microfacet.masking("smith", l, v, n, alpha, distribution="ggx")
-        sep = brdfpy.microfacet.masking("smith_separable", l, v, n, alpha, distribution="ggx")
+        corr = brdfpy.microfacet.masking(l, v, n, alpha, masking="smith", distribution="ggx")
+        sep = brdfpy.microfacet.masking(l, v, n, alpha, masking="smith_separable", distribution="ggx")
         assert np.all(sep <= corr + 1e-7)
     up = np.array([0.0, 0.0, 1.0], np.float32)
-    corr = brdfpy.microfacet.masking("smith", l, up, n, 0.5, distribution="ggx")
-    sep = brdfpy.microfacet.masking("smith_separable", l, up, n, 0.5, distribution="ggx")
+    corr = brdfpy.microfacet.masking(l, up, n, 0.5, masking="smith", distribution="ggx")
+    sep = brdfpy.microfacet.masking(l, up, n, 0.5, masking="smith_separable", distribution="ggx")
     np.testing.assert_allclose(corr, sep, rtol=1e-6)
 
 

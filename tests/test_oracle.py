@@ -82,5 +82,5 @@ def test_oren_nayar_oracle_at_zero_roughness_is_lambert() -> None:
     rng = np.random.default_rng(0)
     l, v = rng.normal(size=(2, 100, 3)) + np.array([0.0, 0.0, 2.0])
     for name in ("oren_nayar", "oren_nayar_full"):
-        f = om.evaluate(name, {"albedo": 0.5, "sigma": 0.0}, l, v, [0, 0, 1])
+        f = om.evaluate(name, {"kd": 0.5, "sigma": 0.0}, l, v, [0, 0, 1])
         np.testing.assert_allclose(f[f > 0], 0.5 / np.pi, rtol=1e-12)

@@ -93,7 +93,7 @@ def _local_oracle(name: str, params: dict, theta_i: np.ndarray, theta_r: np.ndar
 def _terms(name: str, params: dict, theta_i: np.ndarray, theta_r: np.ndarray, dphi: np.ndarray):
     """M: the sum of the magnitudes of the model's terms, as the oracle defines them."""
     s2 = params["sigma"] ** 2
-    rho = params["albedo"]
+    rho = params["kd"]
     alpha, beta = np.maximum(theta_i, theta_r), np.minimum(theta_i, theta_r)
     cd = np.cos(dphi)
     if name == "oren_nayar":
@@ -120,13 +120,13 @@ def _f32(x: float) -> float:
 #: (model, parameters): sigma from nearly Lambert to the largest roughness, each model's variants; the
 #: albedos are float32 numbers.
 CASES = [
-    ("oren_nayar", {"albedo": 0.75, "sigma": _f32(0.05), "variant": "qualitative"}),
-    ("oren_nayar", {"albedo": 0.75, "sigma": _f32(0.3), "variant": "qualitative"}),
-    ("oren_nayar", {"albedo": 0.75, "sigma": _f32(HALF_PI), "variant": "compensated"}),
-    ("oren_nayar_full", {"albedo": 0.75, "sigma": _f32(0.05), "interreflection": True}),
-    ("oren_nayar_full", {"albedo": 0.75, "sigma": _f32(0.3), "interreflection": True}),
-    ("oren_nayar_full", {"albedo": 0.875, "sigma": _f32(HALF_PI), "interreflection": True}),
-    ("oren_nayar_full", {"albedo": 0.75, "sigma": 1.0, "interreflection": False}),
+    ("oren_nayar", {"kd": 0.75, "sigma": _f32(0.05), "variant": "qualitative"}),
+    ("oren_nayar", {"kd": 0.75, "sigma": _f32(0.3), "variant": "qualitative"}),
+    ("oren_nayar", {"kd": 0.75, "sigma": _f32(HALF_PI), "variant": "compensated"}),
+    ("oren_nayar_full", {"kd": 0.75, "sigma": _f32(0.05), "interreflection": True}),
+    ("oren_nayar_full", {"kd": 0.75, "sigma": _f32(0.3), "interreflection": True}),
+    ("oren_nayar_full", {"kd": 0.875, "sigma": _f32(HALF_PI), "interreflection": True}),
+    ("oren_nayar_full", {"kd": 0.75, "sigma": 1.0, "interreflection": False}),
 ]
 FAMILIES = [
     f"{polar}/{azimuth}"

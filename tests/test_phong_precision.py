@@ -71,11 +71,11 @@ def _adversarial(rng: np.random.Generator, family: str) -> dict[str, np.ndarray]
 def _strauss_rj_sensitivity(g: om.Geo, params: dict) -> np.ndarray:
     """``|∂ ln r_j/∂θ_l| + |∂ ln r_j/∂θ_v|`` of the oracle [1/rad], by central differences in the angles.
     Only r_j reads g.nl and g.nv (the specular base reads the vectors; the parameters make Q_d = 0)."""
-    kwargs = {k: p for k, p in params.items() if k != "color"}
+    kwargs = {om.MODELS["strauss"][2].get(k, k): p for k, p in params.items() if k != "base_color"}
 
     def log_q(theta_l: np.ndarray, theta_v: np.ndarray) -> np.ndarray:
         moved = dataclasses.replace(g, nl=np.cos(theta_l), nv=np.cos(theta_v))
-        return np.log(om.strauss(moved, color_=params["color"], **kwargs)[:, 0])
+        return np.log(om.strauss(moved, color_=params["base_color"], **kwargs)[:, 0])
 
     theta_l, theta_v, h = np.arccos(g.nl), np.arccos(g.nv), 1e-7
     with np.errstate(all="ignore"):
@@ -85,7 +85,9 @@ def _strauss_rj_sensitivity(g: om.Geo, params: dict) -> np.ndarray:
 
 
 #: Strauss's constants as brdfpy holds them (float32); its shadow curve is steep at grazing.
-K32 = {k: float(np.float32(c)) for k, c in {"kf": 1.12, "ks": 1.01, "kj": 0.1}.items()}
+K32 = {
+    k: float(np.float32(c)) for k, c in {"k_fresnel": 1.12, "k_shadow": 1.01, "k_offspecular": 0.1}.items()
+}
 
 #: (model, parameters with only the specular lobe, its exponent, quantity compared).
 CASES = [
@@ -95,7 +97,13 @@ CASES = [
         # brdfpy holds the smoothness in float32: the oracle gets that value (h = 3/(1 - s) is steep).
         (
             "strauss",
-            {"color": 0.0, "smoothness": float(np.float32(s)), "metalness": 0.0, "transparency": 0.0, **K32},
+            {
+                "base_color": 0.0,
+                "smoothness": float(np.float32(s)),
+                "metalness": 0.0,
+                "transparency": 0.0,
+                **K32,
+            },
             3 / (1 - float(np.float32(s))),
             "shade",
         )

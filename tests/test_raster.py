@@ -81,7 +81,7 @@ def two_objects() -> rb.Spec:
         transform=og.translation((0.0, 0.5, 0.0)) @ og.scaling(0.5),
     )
     floor = mesh_obj(
-        brdfpy.plane(3.0, 4), model="lambert", params={"albedo": (0.7, 0.7, 0.6)}, emission=(0.05, 0.0, 0.0)
+        brdfpy.plane(3.0, 4), model="lambert", params={"kd": (0.7, 0.7, 0.6)}, emission=(0.05, 0.0, 0.0)
     )
     lights = [
         rb.Light("directional", {"direction": (-0.4, -1, -0.3), "color": 1.5}),
@@ -245,7 +245,7 @@ def test_back_faces_are_culled_only_when_asked() -> None:
     assert (np.asarray(culled.depth)[12, 16]) > (np.asarray(both.depth)[12, 16])
     # one triangle seen from behind
     back = one_triangle([[0, 1, 0], [1, -1, 0], [-1, -1, 0]])
-    img = rb.brdfpy_scene(back).render(rb.brdfpy_camera(back.camera), 32, 24)
+    img = rb.brdfpy_scene(back).render(rb.brdfpy_camera(back.camera), 32, 24, outputs="all")
     assert (np.asarray(img.triangle_id) == -1).all()
     check_render(back, 32, 24, "flat", cull_back_faces=False)
 
@@ -261,7 +261,7 @@ def ground_through_the_camera() -> rb.Spec:
     n = np.tile([0.0, 1.0, 0.0], (len(v), 1))
     # the grid is CCW seen from +z; seen from above it must be CCW about +y
     f = f[:, ::-1]
-    obj = rb.Obj(v, f, n, model="lambert", params={"albedo": 0.6}, ambient=0.05)
+    obj = rb.Obj(v, f, n, model="lambert", params={"kd": 0.6}, ambient=0.05)
     lights = [rb.Light("point", {"position": (0, 1, -1), "intensity": 2.0})]
     cam = rb.Cam("perspective", {"eye": (0, 0.3, 0), "target": (0, 0, -2), "fovy": 70, "near": 0.2})
     return rb.Spec([obj], lights, cam)
@@ -304,7 +304,7 @@ def one_triangle(v: Any, cam: rb.Cam | None = None) -> rb.Spec:
 )
 def test_invisible_triangles_draw_nothing(what: str, tri: Any) -> None:
     spec = one_triangle(tri)
-    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 32, 24)
+    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 32, 24, outputs="all")
     assert (np.asarray(img.triangle_id) == -1).all(), what
     assert (np.asarray(img.depth) == 1).all() and (np.asarray(img.hdr) == 0).all(), what
 
@@ -326,7 +326,7 @@ def test_partly_off_screen_triangles_match_reference(tri: Any) -> None:
 
 def test_a_screen_filling_triangle_covers_every_pixel() -> None:
     spec = one_triangle([[-1e6, -1e6, -1], [1e6, -1e6, -1], [0, 1e6, -1]])
-    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 57, 31)
+    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 57, 31, outputs="all")
     assert (np.asarray(img.triangle_id) == 0).all()
 
 
@@ -335,7 +335,7 @@ def test_a_screen_filling_triangle_covers_every_pixel() -> None:
 
 def test_rgb_is_the_clamped_srgb_encoding_of_hdr() -> None:
     spec = canonical(2)
-    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 64, 48)
+    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 64, 48, outputs="all")
     rgb = np.asarray(img.rgb)
     assert rgb.dtype == np.uint8 and rgb.shape == (48, 64, 3)
     want = otm.to_uint8(np.asarray(img.hdr, dtype=np.float64))
@@ -347,7 +347,7 @@ def test_rgb_is_the_clamped_srgb_encoding_of_hdr() -> None:
 def test_background_depth_and_ids_where_nothing_is_drawn() -> None:
     spec = canonical(2)
     spec.background = (0.25, 0.5, 1.0)
-    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 64, 48)
+    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 64, 48, outputs="all")
     empty = np.asarray(img.triangle_id) == -1
     assert empty[0, 0] and empty.sum() > 1000
     np.testing.assert_array_equal(
@@ -362,8 +362,8 @@ def test_supersampling_is_the_box_filtered_finer_render() -> None:
     # the same view rendered at twice the size, averaged in 2x2 blocks
     spec = canonical(2)
     scene, cam = rb.brdfpy_scene(spec), rb.brdfpy_camera(spec.camera)
-    aa = np.asarray(scene.render(cam, 40, 30, samples=4).hdr, dtype=np.float64)
-    fine = np.asarray(scene.render(cam, 80, 60).hdr, dtype=np.float64)
+    aa = np.asarray(scene.render(cam, 40, 30, samples=4, outputs="all").hdr, dtype=np.float64)
+    fine = np.asarray(scene.render(cam, 80, 60, outputs="all").hdr, dtype=np.float64)
     boxed = fine.reshape(30, 2, 40, 2, 3).mean(axis=(1, 3))
     # identical samples up to float32 rounding of the sample positions (and vertex snapping at either
     # resolution: a sample within 1/256 px of an edge may flip, changing its pixel by up to 1/4 of the
@@ -376,7 +376,7 @@ def test_save_writes_the_rgb_image_as_png(tmp_path: Any) -> None:
     from PIL import Image as PILImage
 
     spec = canonical(2)
-    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 40, 30)
+    img = rb.brdfpy_scene(spec).render(rb.brdfpy_camera(spec.camera), 40, 30, outputs="all")
     path = tmp_path / "out.png"
     img.save(path)
     with PILImage.open(path) as f:
@@ -394,7 +394,7 @@ def test_overlapping_and_intersecting_triangle_soup_matches_reference(seed: int)
     v = (centres + rng.normal(scale=0.5, size=(40, 3, 3))).reshape(-1, 3)
     f = np.arange(120).reshape(40, 3)
     n = np.repeat(og._unit_rows(og.face_cross(v, f)), 3, axis=0)
-    obj = rb.Obj(v, f, n, model="lambert", params={"albedo": 0.7}, ambient=0.1)
+    obj = rb.Obj(v, f, n, model="lambert", params={"kd": 0.7}, ambient=0.1)
     spec = rb.Spec(
         [obj],
         [rb.Light("directional", {"direction": (0.2, -0.3, -1)})],
@@ -414,7 +414,7 @@ def test_overlapping_and_intersecting_triangle_soup_matches_reference(seed: int)
 def test_tone_mapping_operators_and_exposure(tonemap: str, exposure: float, white: float | None) -> None:
     spec = canonical(2)
     scene, cam = rb.brdfpy_scene(spec), rb.brdfpy_camera(spec.camera)
-    img = scene.render(cam, 48, 36, tonemap=tonemap, exposure=exposure, white=white)
+    img = scene.render(cam, 48, 36, tonemap=tonemap, exposure=exposure, white=white, outputs="all")
     x = np.asarray(img.hdr, dtype=np.float64) * 2.0**exposure
     mapped = {
         "clamp": otm.clamp,
@@ -426,7 +426,7 @@ def test_tone_mapping_operators_and_exposure(tonemap: str, exposure: float, whit
     diff = np.abs(np.asarray(img.rgb).astype(int) - want.astype(int))
     assert diff.max() <= 1 and (diff > 0).mean() < 0.02
     # re-mapping a clamp render afterwards gives the same bytes as rendering with that operator
-    again = scene.render(cam, 48, 36).tonemapped(tonemap, exposure, white=white)
+    again = scene.render(cam, 48, 36, outputs="all").tonemapped(tonemap, exposure, white=white)
     np.testing.assert_array_equal(again, img.rgb)
 
 
@@ -434,7 +434,7 @@ def test_progress_reports_increasing_fractions_and_reraises() -> None:
     spec = canonical(3)
     scene, cam = rb.brdfpy_scene(spec), rb.brdfpy_camera(spec.camera)
     seen: list[float] = []
-    scene.render(cam, 256, 192, progress=seen.append)
+    scene.render(cam, 256, 192, progress=seen.append, outputs="all")
     assert seen and all(0 <= a < b <= 1 for a, b in zip([0.0, *seen], seen))
     assert seen[-1] == pytest.approx(1.0)
 
@@ -442,4 +442,4 @@ def test_progress_reports_increasing_fractions_and_reraises() -> None:
         raise KeyError("stop")
 
     with pytest.raises(KeyError, match="stop"):
-        scene.render(cam, 64, 48, progress=fail)
+        scene.render(cam, 64, 48, progress=fail, outputs="all")

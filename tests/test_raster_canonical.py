@@ -34,7 +34,7 @@ def test_icosphere_counts_of_scene_md() -> None:
 @pytest.mark.parametrize(("w", "h"), [(161, 121), (321, 181)])
 def test_centre_pixel_is_the_check_value(w: int, h: int) -> None:
     # odd sizes: the centre pixel's sample is exactly the image centre, the point P = N = (0, 0, 1)
-    img = canonical_scene(5).render(brdfpy.Camera.perspective(**CAMERA), w, h)
+    img = canonical_scene(5).render(brdfpy.Camera.perspective(**CAMERA), w, h, outputs="all")
     c = (h // 2, w // 2)
     # the linear value recomputed by the reference from SCENE.md's formula (its print, (0.810225,
     # 0.311365, 0.211593), agrees); brdfpy samples a flat facet of level 5 whose interpolated normal is
@@ -61,7 +61,7 @@ def test_highlight_and_unlit_points_in_the_render() -> None:
     # find the pixels whose exact sphere point is nearest the other two check points, and compare the
     # render there with the reference's value at the exact hit point (not SCENE.md's print)
     w, h = 320, 240
-    img = canonical_scene(6).render(brdfpy.Camera.perspective(**CAMERA), w, h)
+    img = canonical_scene(6).render(brdfpy.Camera.perspective(**CAMERA), w, h, outputs="all")
     cam = scene.camera()
     o, d = cam.ray(w, h)
     b = np.sum(o * d, axis=-1)
@@ -93,7 +93,9 @@ def test_agrees_with_the_ray_cast_sphere_at_a_modest_size() -> None:
 def check_raycast_agreement(
     w: int, h: int, level: int, mean_levels: float, max_levels: int, silhouette: int
 ) -> None:
-    img = canonical_scene(level).render(brdfpy.Camera.perspective(**CAMERA), w, h, shading="phong")
+    img = canonical_scene(level).render(
+        brdfpy.Camera.perspective(**CAMERA), w, h, shading="phong", outputs="all"
+    )
     want, hit = raycast.sphere(scene.camera(), w, h, scene.material(), scene.lights())
     covered = np.asarray(img.triangle_id) >= 0
     # the inscribed polyhedron's silhouette lies inside the sphere's: pixels covered by the sphere only

@@ -71,7 +71,9 @@ def test_degenerate_triangles_are_skipped_and_render_nothing() -> None:
     s = brdfpy.Scene()
     s.add(m, "lambert")
     s.add_light(brdfpy.DirectionalLight((0, 0, -1)))
-    img = s.render(brdfpy.Camera.orthographic((0.5, 0.5, 2), (0.5, 0.5, 0), height=2.0), 40, 40)
+    img = s.render(
+        brdfpy.Camera.orthographic((0.5, 0.5, 2), (0.5, 0.5, 0), height=2.0), 40, 40, outputs="all"
+    )
     ids = np.asarray(img.triangle_id)
     assert set(np.unique(ids).tolist()) == {-1, 2}
     assert np.isfinite(np.asarray(img.hdr)).all()
@@ -179,7 +181,7 @@ def test_extreme_but_finite_geometry_renders_finite_images() -> None:
     s.add(brdfpy.Mesh(v, f, normals=np.tile([0, 0, 1.0], (6, 1))), "lambert")
     s.add_light(brdfpy.PointLight((0, 0, 1), 1.0))
     for shading in ("flat", "gouraud", "phong", "quadratic"):
-        img = s.render(CAM, 32, 24, shading=shading)
+        img = s.render(CAM, 32, 24, shading=shading, outputs="all")
         assert np.isfinite(np.asarray(img.hdr)).all(), shading
         assert np.isfinite(np.asarray(img.depth)).all(), shading
 

@@ -13,7 +13,7 @@ from raster_oracle import raster as oraster
 from raster_oracle import raycast, scene
 from raster_oracle.clip import clip_triangle
 
-LAMBERT = oraster.Material("lambert", {"albedo": (0.5, 0.5, 0.5)})
+LAMBERT = oraster.Material("lambert", {"kd": (0.5, 0.5, 0.5)})
 
 
 def test_camera_matrices_are_scene_md() -> None:

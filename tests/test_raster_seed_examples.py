@@ -53,7 +53,7 @@ def render_s(shading: str, ks: float = KS, normals: np.ndarray = N) -> np.ndarra
     scene.add(mesh, material, ambient=KA, emission=IE)
     scene.add_light(brdfpy.DirectionalLight(direction=-L, color=II))
     cam = brdfpy.Camera.orthographic(eye=S + np.array([0.0, 0.0, 10.0]), target=S, up=(0, 1, 0), height=8.0)
-    img = scene.render(cam, SIZE, SIZE, shading=shading)
+    img = scene.render(cam, SIZE, SIZE, shading=shading, outputs="all")
     c = SIZE // 2
     assert img.triangle_id[c, c] == 0
     return np.asarray(img.hdr[c, c], dtype=np.float64)

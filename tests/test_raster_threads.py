@@ -58,7 +58,7 @@ def test_render_is_bit_identical_across_thread_counts(
     outs = {}
     for n in (1, 2, 4):
         brdfpy.set_num_threads(n)
-        img = scene.render(cam, 320, 200, **options)
+        img = scene.render(cam, 320, 200, outputs="all", **options)
         outs[n] = {k: np.array(getattr(img, k)) for k in ("hdr", "rgb", "depth", "normal", "triangle_id")}
     assert (outs[1]["triangle_id"] >= 0).sum() > 10_000, what
     for n in (2, 4):
@@ -69,27 +69,34 @@ def test_render_is_bit_identical_across_thread_counts(
 
 def test_a_render_does_not_depend_on_the_frames_rendered_before_it() -> None:
     # brdfpy draws a new render into the buffers of the last image Python dropped (no fresh pages per
-    # frame): nothing of that image may show through, whatever its size, scene or shading.
+    # frame): nothing of that image may show through, whatever its size, scene, shading or outputs.
     cam = brdfpy.Camera.perspective((0.3, 0.8, 3.5), (0, 0, 0), fovy=50)
 
     def buffers(img: brdfpy.Image) -> dict[str, bytes]:
-        return {
-            k: np.array(getattr(img, k)).tobytes() for k in ("hdr", "rgb", "depth", "normal", "triangle_id")
-        }
+        return {k: np.array(getattr(img, k)).tobytes() for k in img.outputs}
 
-    first = buffers(canonical_scene().render(cam, 200, 120))
+    first = buffers(canonical_scene().render(cam, 200, 120, outputs="all"))
+    assert set(first) == {"hdr", "rgb", "depth", "normal", "triangle_id"}
     for scene, size, options in [
         (busy_scene(), (320, 200), {"shading": "flat"}),  # larger, every pixel covered differently
         (busy_scene(), (64, 40), {"samples": 4}),  # smaller, supersampled
         (busy_scene(), (200, 120), {"shading": "gouraud"}),  # same size, other content
+        (busy_scene(), (200, 120), {"outputs": ("normal",)}),  # other buffers only
+        (busy_scene(), (200, 120), {"outputs": ("hdr", "triangle_id"), "samples": 9}),
     ]:
+        options = {"outputs": "all", **options}
         img = scene.render(cam, *size, **options)
         kept = buffers(img)
         del img  # its frame becomes the spare the next render draws into
-        assert buffers(canonical_scene().render(cam, 200, 120)) == first
+        assert buffers(canonical_scene().render(cam, 200, 120, outputs="all")) == first
+        # a render asking for fewer buffers gets exactly those, with the same bits
+        few = canonical_scene().render(cam, 200, 120, outputs=("rgb", "depth"))
+        assert few.outputs == ("rgb", "depth")
+        assert buffers(few) == {k: first[k] for k in ("rgb", "depth")}
+        del few
         # and an image keeps its own pixels while later renders run
         held = scene.render(cam, *size, **options)
-        canonical_scene().render(cam, 200, 120)
+        canonical_scene().render(cam, 200, 120, outputs="all")
         assert buffers(held) == kept
 
 
@@ -100,7 +107,7 @@ def test_the_image_encoded_during_the_render_equals_one_encoded_afterwards(
     # Scene.render encodes Image.rgb band by band while rendering; Image.tonemapped encodes the HDR buffer
     # afterwards. Same bytes.
     cam = brdfpy.Camera.perspective((0.3, 0.8, 3.5), (0, 0, 0), fovy=50)
-    during = busy_scene().render(cam, 160, 100, tonemap=tonemap, exposure=exposure)
-    after = busy_scene().render(cam, 160, 100)
+    during = busy_scene().render(cam, 160, 100, tonemap=tonemap, exposure=exposure, outputs=("rgb", "hdr"))
+    after = busy_scene().render(cam, 160, 100, outputs=("hdr",))
     assert np.array_equal(during.rgb, after.tonemapped(tonemap, exposure))
     assert np.array_equal(during.rgb, during.tonemapped(tonemap, exposure))

@@ -38,7 +38,7 @@ def random_camera(rng: np.random.Generator) -> tuple[ocam.Camera, brdfpy.Camera]
 def render_ids(v: np.ndarray, f: np.ndarray, cam: brdfpy.Camera, w: int = W, h: int = H) -> np.ndarray:
     scene = brdfpy.Scene()
     scene.add(brdfpy.Mesh(v, f, normals=np.tile([0.0, 0.0, 1.0], (len(v), 1))), "lambert")
-    return np.asarray(scene.render(cam, w, h, shading="flat").triangle_id)
+    return np.asarray(scene.render(cam, w, h, shading="flat", outputs="all").triangle_id)
 
 
 def additive_coverage(v: np.ndarray, f: np.ndarray, cam: brdfpy.Camera, w: int = W, h: int = H) -> np.ndarray:

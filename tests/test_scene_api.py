@@ -209,7 +209,7 @@ def test_lights_deliver_what_seed_002_says():
 
 def test_render_returns_every_buffer_with_the_documented_shapes_and_sentinels():
     scene, cam = canonical()
-    img = scene.render(cam, 64, 48)
+    img = scene.render(cam, 64, 48, outputs="all")
     assert img.shape == (48, 64)
     assert img.rgb.shape == (48, 64, 3) and img.rgb.dtype == np.uint8
     assert img.hdr.shape == (48, 64, 3) and img.hdr.dtype == np.float32
@@ -229,7 +229,7 @@ def test_render_returns_every_buffer_with_the_documented_shapes_and_sentinels():
 def test_the_canonical_scene_centre_pixel_is_scene_md_check_value():
     # P = N = (0, 0, 1): ambient 0.05 kd + both lights through the classic formula, recomputed here.
     scene, cam = canonical(4)
-    img = scene.render(cam, 64, 64)
+    img = scene.render(cam, 64, 64, outputs="all")
     n = np.array([0, 0, 1.0])
     v = np.array([0, 0, 2.0])
     kd = np.array(KD)
@@ -250,8 +250,8 @@ def test_the_canonical_scene_centre_pixel_is_scene_md_check_value():
 
 def test_tonemap_and_exposure_apply_only_to_rgb():
     scene, cam = canonical()
-    a = scene.render(cam, 32, 32)
-    b = scene.render(cam, 32, 32, tonemap="aces", exposure=-1)
+    a = scene.render(cam, 32, 32, outputs="all")
+    b = scene.render(cam, 32, 32, tonemap="aces", exposure=-1, outputs="all")
     np.testing.assert_array_equal(a.hdr, b.hdr)
     assert (a.rgb != b.rgb).any()
     np.testing.assert_array_equal(a.tonemapped("aces", -1), b.rgb)
@@ -262,7 +262,7 @@ def test_transforms_place_meshes_and_triangle_ids_count_across_instances():
     m = brdfpy.icosphere(1)
     scene.add(m, "lambert", brdfpy.transforms.translate(-1.5, 0, 0) @ brdfpy.transforms.scale(0.5), ambient=1)
     scene.add(m, "lambert", brdfpy.transforms.translate(1.5, 0, 0) @ brdfpy.transforms.scale(0.5), ambient=1)
-    img = scene.render(brdfpy.Camera.orthographic((0, 0, 5), height=2.2), 88, 22)
+    img = scene.render(brdfpy.Camera.orthographic((0, 0, 5), height=2.2), 88, 22, outputs="all")
     ids = img.triangle_id
     left, right = ids[:, :44], ids[:, 44:]
     assert (left[left >= 0] < m.n_faces).all() and (right[right >= 0] >= m.n_faces).all()
@@ -271,13 +271,13 @@ def test_transforms_place_meshes_and_triangle_ids_count_across_instances():
 
 def test_every_shading_mode_and_supersampling_renders():
     scene, cam = canonical(2)
-    base = scene.render(cam, 32, 32, "phong")
+    base = scene.render(cam, 32, 32, "phong", outputs="all")
     for mode in ("flat", "gouraud", "quadratic"):
-        img = scene.render(cam, 32, 32, mode)
+        img = scene.render(cam, 32, 32, mode, outputs="all")
         assert img.covered_pixels == base.covered_pixels
-    flat = scene.render(cam, 32, 32, "flat")
+    flat = scene.render(cam, 32, 32, "flat", outputs="all")
     assert (flat.rgb != base.rgb).any()
-    ss = scene.render(cam, 32, 32, samples=4)
+    ss = scene.render(cam, 32, 32, samples=4, outputs="all")
     edge = base.mask & ~np.roll(base.mask, 1, axis=1)
     # Anti-aliased edges take in-between values.
     assert (ss.hdr[edge].sum(axis=1) < base.hdr[edge].sum(axis=1)).any()
@@ -289,25 +289,25 @@ def test_shadows_and_ambient_occlusion_darken_and_are_deterministic():
     scene.add(brdfpy.icosphere(3), "lambert", brdfpy.transforms.translate(0, 1.0, 0), ambient=1.0)
     scene.add_light(brdfpy.DirectionalLight((0, -1, 0), 3.0))
     cam = brdfpy.Camera.perspective((0, 4, 4), (0, 0, 0))
-    plain = scene.render(cam, 48, 48)
-    shadowed = scene.render(cam, 48, 48, shadows=True)
+    plain = scene.render(cam, 48, 48, outputs="all")
+    shadowed = scene.render(cam, 48, 48, shadows=True, outputs="all")
     assert shadowed.hdr.sum() < plain.hdr.sum()
-    ao = scene.render(cam, 48, 48, ao={"samples": 16, "per_pixel": True})
+    ao = scene.render(cam, 48, 48, ao={"samples": 16, "per_pixel": True}, outputs="all")
     assert ao.hdr.sum() < plain.hdr.sum()
     np.testing.assert_array_equal(
-        ao.hdr, scene.render(cam, 48, 48, ao={"samples": 16, "per_pixel": True}).hdr
+        ao.hdr, scene.render(cam, 48, 48, ao={"samples": 16, "per_pixel": True}, outputs="all").hdr
     )
     with pytest.raises(ValueError, match="ao"):
-        scene.render(cam, 8, 8, ao={"radius": 1})
+        scene.render(cam, 8, 8, ao={"radius": 1}, outputs="all")
 
 
 def test_output_is_bit_identical_at_any_thread_count():
     scene, cam = canonical(4)
     try:
         brdfpy.set_num_threads(1)
-        one = scene.render(cam, 97, 61, shadows=True)
+        one = scene.render(cam, 97, 61, shadows=True, outputs="all")
         brdfpy.set_num_threads(3)
-        three = scene.render(cam, 97, 61, shadows=True)
+        three = scene.render(cam, 97, 61, shadows=True, outputs="all")
     finally:
         brdfpy.set_num_threads(None)
     np.testing.assert_array_equal(one.hdr, three.hdr)
@@ -317,14 +317,14 @@ def test_output_is_bit_identical_at_any_thread_count():
 def test_progress_is_reported_in_increasing_fractions_up_to_one_and_errors_propagate():
     scene, cam = canonical()
     seen: list[float] = []
-    scene.render(cam, 64, 200, progress=seen.append)
+    scene.render(cam, 64, 200, progress=seen.append, outputs="all")
     assert seen and seen[-1] == 1.0 and seen == sorted(seen)
 
     def boom(_f: float) -> None:
         raise KeyError("stop")
 
     with pytest.raises(KeyError):
-        scene.render(cam, 64, 64, progress=boom)
+        scene.render(cam, 64, 64, progress=boom, outputs="all")
 
 
 def test_the_gil_is_released_while_rendering():
@@ -340,7 +340,7 @@ def test_the_gil_is_released_while_rendering():
     t = threading.Thread(target=count)
     t.start()
     try:
-        scene.render(cam, 800, 600)
+        scene.render(cam, 800, 600, outputs="all")
     finally:
         done.set()
         t.join()
@@ -350,7 +350,7 @@ def test_the_gil_is_released_while_rendering():
 
 def test_image_saves_png_through_pillow_and_has_a_jupyter_repr(tmp_path):
     scene, cam = canonical()
-    img = scene.render(cam, 40, 30)
+    img = scene.render(cam, 40, 30, outputs="all")
     path = tmp_path / "out.png"
     img.save(path)
     with PILImage.open(path) as im:
@@ -378,14 +378,14 @@ def test_bad_render_arguments_raise_naming_the_argument(kwargs, exc, word):
     scene, cam = canonical(1)
     args = {"width": 16, "height": 16, **kwargs}
     with pytest.raises(exc, match=word):
-        scene.render(cam, **args)
+        scene.render(cam, **args, outputs="all")
 
 
 def test_bad_scene_contents_raise_naming_the_argument():
     scene = brdfpy.Scene()
     cam = brdfpy.Camera()
     with pytest.raises(ValueError, match="scene"):
-        scene.render(cam, 8, 8)
+        scene.render(cam, 8, 8, outputs="all")
     with pytest.raises(ValueError, match="transform"):
         scene.add(brdfpy.icosphere(0), "lambert", np.zeros((4, 4)))
     with pytest.raises(ValueError, match="transform"):

@@ -6,7 +6,7 @@ value ``f_r`` in 1/sr without the cosine and ``Model.shade`` what a renderer mul
 color; colors are linear RGB, clamping and tone mapping are explicit steps.
 
 >>> import brdfpy
->>> m = brdfpy.model("lambert", albedo=0.5)
+>>> m = brdfpy.model("lambert", kd=0.5)
 >>> m.eval([0, 0, 1], [0, 0, 1], [0, 0, 1])
 array([0.15915494, 0.15915494, 0.15915494], dtype=float32)
 """
@@ -15,14 +15,16 @@ from __future__ import annotations
 
 import os
 
-from brdfpy import checks, fresnel, measured, microfacet, sh, tonemap, transforms, vectors
+from brdfpy import checks, fresnel, measured, microfacet, sampling, sh, tonemap, transforms, vectors, views
 from brdfpy._brdfpy import BrdfError, __version__, get_num_threads, set_num_threads
 from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
 from brdfpy.camera import Camera
+from brdfpy.environment import Environment
 from brdfpy.image import Image
 from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
 from brdfpy.mesh import (
     BUILTIN_MESHES,
+    InwardMeshWarning,
     Mesh,
     builtin_mesh,
     cube,
@@ -42,9 +44,11 @@ __all__ = [
     "BrdfError",
     "Camera",
     "DirectionalLight",
+    "Environment",
     "Hits",
     "Image",
     "Instance",
+    "InwardMeshWarning",
     "Light",
     "Mesh",
     "Model",
@@ -58,6 +62,7 @@ __all__ = [
     "builtin_mesh",
     "checks",
     "cube",
+    "explore",
     "fresnel",
     "get_num_threads",
     "icosphere",
@@ -70,13 +75,26 @@ __all__ = [
     "open_box",
     "plane",
     "polygon_normal",
+    "sampling",
     "set_num_threads",
     "sh",
     "tonemap",
     "torus",
     "transforms",
     "vectors",
+    "views",
 ]
+
+
+def explore(models: Model | str | list[Model | str] | None = None, *, size: int = 512) -> object:
+    """The interactive BRDF explorer for a Jupyter notebook (display the returned Panel layout), on the
+    optional extra ``brdfpy[explore]``; ``brdfpy explore`` serves the same page in the browser. ``models``:
+    a model, a name, or a list of them (default ``cook_torrance``)."""
+    from brdfpy import explorer, views
+
+    ms = [] if models is None else views._models(models)[0]
+    return explorer.notebook(ms, size=size)
+
 
 # The worker threads of the pool exist only in the process that started them; a forked child starts afresh.
 if hasattr(os, "register_at_fork"):

@@ -1,10 +1,10 @@
 """Array-likes → C-contiguous float32 arrays for the compiled module, with errors that name the argument.
 
 Every public function converts its inputs here and nowhere else. Float32 C-contiguous input passes through
-without a copy (``np.ascontiguousarray`` returns the same array); float64, integer or strided input is copied
-once. Finiteness (NaN / inf, including float64 values beyond the float32 range) is checked by the compiled
-module inside the evaluation loop, chunk by chunk while the data is in cache, and reported with the
-argument's name and the offending row.
+without a copy (the same array object); float64, integer or strided input is copied once. Shapes,
+broadcasting and finiteness (NaN / inf, including float64 values beyond the float32 range) are checked by
+the compiled module (brdf-core's batch rules, the same for Rust users), inside the evaluation loop, chunk by
+chunk while the data is in cache, and reported with the argument's name and the offending index.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["as_scalars", "as_vec3", "as_vec3_args"]
+__all__ = ["as_float", "as_int", "as_scalars", "as_str", "as_vec3", "as_vectors"]
 
 F32 = NDArray[np.float32]
 
@@ -37,17 +37,31 @@ def _as_numeric(name: str, x: ArrayLike) -> NDArray[Any]:
 
 
 def _to_f32(a: NDArray[Any]) -> F32:
-    if a.dtype == np.float32 and a.flags.c_contiguous:
+    if a.dtype == np.float32 and a.flags.c_contiguous and a.flags.aligned:
         return a  # the common case: used as it is, no copy (and no cost for small batches)
+    # (Unaligned float32 data, e.g. a buffer as it arrives from the network, cannot be read as floats in
+    # place by the compiled module: copied like strided input.)
     # Values beyond the float32 range become inf here and are reported by the compiled module as non-finite;
     # silence NumPy's overflow warning so that the error, not a warning, tells the user. np.asarray(order="C")
     # keeps 0-d arrays 0-d (np.ascontiguousarray would make them 1-d).
     with np.errstate(over="ignore", invalid="ignore"):
-        return np.asarray(a, dtype=np.float32, order="C")
+        out = np.asarray(a, dtype=np.float32, order="C")
+    return out if out.flags.aligned else out.copy()  # (asarray keeps unaligned float32 data as it is)
+
+
+def as_vectors(name: str, x: ArrayLike | None) -> F32:
+    """Convert ``x`` to a C-contiguous float32 array; the compiled module requires shape ``(..., 3)``.
+
+    The input of every batch function: leading dimensions broadcast NumPy-style, the output has the
+    broadcast shape followed by the output's own axes (``(3,)`` vectors in, one result out).
+    """
+    if x is None:
+        raise TypeError(f"{name}: expected an array of shape (..., 3), got None")
+    return _to_f32(_as_numeric(name, x))
 
 
 def as_vec3(name: str, x: ArrayLike | None) -> tuple[F32, bool]:
-    """Convert ``x`` to a C-contiguous float32 ``(k, 3)`` array, ``k >= 1``.
+    """Convert ``x`` to a C-contiguous float32 ``(k, 3)`` array, ``k >= 1`` (row-based APIs: meshes, rays).
 
     Returns the array and whether ``x`` was a single vector of shape ``(3,)``.
     """
@@ -63,23 +77,6 @@ def as_vec3(name: str, x: ArrayLike | None) -> tuple[F32, bool]:
     return _to_f32(a), False
 
 
-def as_vec3_args(optional: tuple[str, ...] = (), **arrays: ArrayLike | None) -> tuple[list[F32 | None], bool]:
-    """Convert several named vector arguments; ``None`` stays ``None`` for the names in ``optional``.
-
-    Returns the arrays in order and whether every given one was a single ``(3,)`` vector.
-    """
-    out: list[F32 | None] = []
-    single = True
-    for name, x in arrays.items():
-        if x is None and name in optional:
-            out.append(None)
-            continue
-        a, one = as_vec3(name, x)
-        out.append(a)
-        single = single and one
-    return out, single
-
-
 def as_scalars(name: str, x: ArrayLike | None) -> F32:
     """Convert ``x`` (a number or an array of any shape) to a C-contiguous float32 array of that shape."""
     if x is None:
@@ -88,3 +85,29 @@ def as_scalars(name: str, x: ArrayLike | None) -> F32:
     if a.size == 0:
         raise ValueError(f"{name}: is empty (shape {a.shape})")
     return _to_f32(a)
+
+
+def as_float(name: str, x: object) -> float:
+    """One real number (Python or NumPy float or int, not bool), as ``float``; a ``TypeError`` naming
+    ``name`` otherwise (``float()`` would say "must be a string or a real number", naming nothing)."""
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
+    return float(x)
+
+
+def as_int(name: str, x: object, lo: int, hi: int) -> int:
+    """One integer in ``[lo, hi]`` (Python or NumPy int, not bool): a ``TypeError`` or ``ValueError`` naming
+    ``name`` otherwise (the compiled module would raise ``OverflowError`` for sizes beyond its integers)."""
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
+        raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
+    k = int(x)
+    if not lo <= k <= hi:
+        raise ValueError(f"{name}: expected an integer in [{lo}, {hi}], got {k}")
+    return k
+
+
+def as_str(name: str, x: object, what: str = "a name") -> str:
+    """A ``str``; a ``TypeError`` naming ``name`` otherwise."""
+    if not isinstance(x, str):
+        raise TypeError(f"{name}: expected {what} (str), got {type(x).__name__}")
+    return x

@@ -1,11 +1,11 @@
 # Stub of the compiled module brdfpy._brdfpy (crates/brdf-py). Public names are re-exported, with typed and
 # documented wrappers, by the Python package; this module is private.
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, final
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from typing_extensions import disjoint_base
 
 __version__: str
@@ -31,13 +31,53 @@ class Model:
     def anisotropic(self) -> bool: ...
     @property
     def params(self) -> dict[str, Any]: ...
-    def _eval(self, l: _F32, v: _F32, n: _F32, tangent: _F32 | None = None, shade: bool = False) -> _F32: ...
+    def _eval(
+        self,
+        l: ArrayLike,
+        v: ArrayLike,
+        n: ArrayLike,
+        tangent: ArrayLike | None = None,
+        shade: bool = False,
+        out: object | None = None,
+    ) -> _F32: ...
     def _measured_table(self) -> NDArray[np.float32] | None: ...
 
 # vectors
 def reflect(w: _F32, n: _F32) -> _F32: ...
 def halfway(l: _F32, v: _F32) -> _F32: ...
 def refract(w: _F32, n: _F32, eta: _F32) -> tuple[_F32, NDArray[np.bool_]]: ...
+
+# views
+def view_polar(
+    model: Model, theta_i: float, phi: float, n: int, cosine: bool
+) -> tuple[NDArray[np.float64], _F32]: ...
+def view_lobe(
+    model: Model, theta_i: float, phi: float, n_theta: int, n_phi: int, radius: str, channel: str
+) -> tuple[_F32, NDArray[np.uint32], _F32, _F32, _F32]: ...
+def view_half_diff_slice(
+    model: Model, phi_d: float, n_h: int, n_d: int
+) -> tuple[_F32, NDArray[np.bool_]]: ...
+def view_albedo(
+    model: Model,
+    theta_i: NDArray[np.float64],
+    theta_order: int = 4,
+    phi_order: int = 4,
+    min_panel: float = 1e-3,
+) -> _F32: ...
+def view_lit_sphere(
+    model: Model,
+    size: int,
+    light: Sequence[float],
+    ambient: float,
+    samples: int,
+    tangent_axis: Sequence[float],
+    background: Sequence[float],
+    tonemap: str,
+    exposure: float,
+    white: float | None = None,
+) -> RasterFrame: ...
+def view_cell_angles(n: int) -> NDArray[np.float64]: ...
+def view_quadrature() -> tuple[int, int, float]: ...
 
 # tonemap
 def clamp(x: NDArray[np.float32]) -> NDArray[np.float32]: ...
@@ -53,8 +93,8 @@ def to_uint8(
 def tonemap_operators() -> list[str]: ...
 
 # checks
-def positivity(model: Model, n: int = 10000, seed: int = 0) -> float: ...
-def reciprocity_error(model: Model, n: int = 10000, seed: int = 0) -> float: ...
+def positivity(model: Model, samples: int = 10000, seed: int = 0) -> float: ...
+def reciprocity_error(model: Model, samples: int = 10000, seed: int = 0) -> float: ...
 def directional_albedo(
     model: Model,
     cos_theta_v: NDArray[np.float32],
@@ -63,6 +103,38 @@ def directional_albedo(
     min_panel: float = 1e-4,
 ) -> NDArray[np.float32]: ...
 def check(model: Model) -> dict[str, Any]: ...
+
+# sampling
+def model_sample(
+    model: Model,
+    v: _F32,
+    n: _F32,
+    u: _F32 | None = None,
+    seed: int = 0,
+    tangent: _F32 | None = None,
+    count: int | None = None,
+) -> tuple[_F32, _F32, _F32]: ...
+def model_pdf(model: Model, l: _F32, v: _F32, n: _F32, tangent: _F32 | None = None) -> _F32: ...
+def uniform(count: int, seed: int = 0) -> _F32: ...
+def chi2_test(
+    l: _F32,
+    count: int,
+    pdf: Callable[[_F32], Any],
+    n: _F32,
+    peak: _F32,
+    tangent: _F32 | None = None,
+    n_theta: int = 64,
+    n_phi: int = 128,
+    zoom: float = 1.0,
+    ires: int = 6,
+) -> dict[str, Any]: ...
+def pdf_integral(
+    model: Model,
+    cos_theta_v: _F32,
+    theta_order: int = 16,
+    phi_order: int = 16,
+    min_panel: float = 1e-4,
+) -> NDArray[np.float64]: ...
 def d_normalization(
     lobes: list[_Lobe], theta_order: int = 8, phi_order: int = 8, min_panel: float = 1e-4
 ) -> float: ...
@@ -170,6 +242,26 @@ class RasterCamera:
     def projection_matrix(self, aspect: float) -> list[list[float]]: ...
 
 @final
+class RasterEnvironment:
+    @staticmethod
+    def from_array(image: NDArray[np.float32]) -> RasterEnvironment: ...
+    @staticmethod
+    def load(path: str) -> RasterEnvironment: ...
+    @staticmethod
+    def uniform(radiance: _V3) -> RasterEnvironment: ...
+    @staticmethod
+    def sky(zenith: _V3, horizon: _V3, ground: _V3) -> RasterEnvironment: ...
+    def with_(self, rotation: float, intensity: float) -> RasterEnvironment: ...
+    @property
+    def rotation(self) -> float: ...
+    @property
+    def intensity(self) -> float: ...
+    @property
+    def shape(self) -> tuple[int, int]: ...
+    def image(self) -> NDArray[np.float32]: ...
+    def radiance(self, directions: NDArray[np.float32]) -> NDArray[np.float32]: ...
+
+@final
 class RasterLight:
     @staticmethod
     def directional(direction: _V3, color: _V3) -> RasterLight: ...
@@ -197,15 +289,39 @@ class RasterFrame:
         self, tonemap: str | None = None, exposure: float | None = None, white: float | None = None
     ) -> NDArray[np.uint8]: ...
     def hdr(self) -> _F32: ...
+    def hdr_file(self) -> bytes: ...
+    def exr_file(self) -> bytes: ...
     def depth(self) -> _F32: ...
     def normal(self) -> _F32: ...
     def triangle_id(self) -> NDArray[np.int64]: ...
     def covered_pixels(self) -> int: ...
+    @property
+    def outputs(self) -> list[str]: ...
 
+# pickling (rebuild with the stored bits)
+def _mesh_from_parts(
+    vertices: _F32, faces: NDArray[np.uint32], normals: _F32, colors: _F32 | None = None
+) -> RasterMesh: ...
+def _light_with_direction(light: RasterLight, direction: Sequence[float]) -> RasterLight: ...
+def _frame_state(
+    frame: RasterFrame,
+) -> tuple[int, int, _F32, _F32, _F32, NDArray[np.uint32], NDArray[np.uint8], str, float | None, float]: ...
+def _frame_from_state(
+    width: int,
+    height: int,
+    hdr: _F32,
+    depth: _F32,
+    normal: _F32,
+    triangle_id: NDArray[np.uint32],
+    rgb8: NDArray[np.uint8],
+    tonemap: str,
+    white: float | None,
+    exposure: float,
+) -> RasterFrame: ...
 def render_scene(
-    instances: Sequence[tuple[RasterMesh, Model, list[float], _V3, _V3]],
+    instances: Sequence[tuple[RasterMesh, Model, list[float], _V3 | None, _V3]],
     lights: Sequence[RasterLight],
-    ambient_light: _V3,
+    ambient_light: _V3 | None,
     background: _V3,
     camera: RasterCamera,
     width: int,
@@ -220,8 +336,14 @@ def render_scene(
     shadows: bool = False,
     progress: Any = None,
     vertex_obscurance: Sequence[NDArray[np.float32] | None] | None = None,
+    outputs: Sequence[str] | None = None,
+    environment: RasterEnvironment | None = None,
+    env_mode: str = "fast",
+    env_samples: int = 64,
+    env_seed: int = 0,
 ) -> RasterFrame: ...
 def raster_limits() -> tuple[int, int]: ...
+def occlusion_cache_info() -> tuple[int, int]: ...
 
 # ray queries and obscurance (crates/brdf-py/src/raycast.rs)
 def mesh_obscurance(mesh: RasterMesh, tau: float, d_max: float, samples: int, seed: int) -> _F32: ...

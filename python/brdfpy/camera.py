@@ -29,6 +29,10 @@ def vec3(name: str, x: Any) -> tuple[float, float, float]:
     return (float(a[0]), float(a[1]), float(a[2]))
 
 
+#: The widest aspect ratio of an image the renderer makes (its largest side × 1): the limit of ``aspect``.
+_MAX_ASPECT: int = _brdfpy.raster_limits()[0]
+
+
 def _number(name: str, x: Any) -> float:
     if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
         raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
@@ -152,10 +156,23 @@ class Camera:
         if not np.linalg.norm(d) > 0:
             raise ValueError("direction: must not be zero")
         d /= np.linalg.norm(d)
-        half_v = math.radians(_number("fovy", fovy)) / 2
-        half_h = math.atan(math.tan(half_v) * _number("aspect", aspect))
+        fov = _number("fovy", fovy)
+        if not 0 < fov < 180:
+            raise ValueError(f"fovy: must lie in (0, 180) degrees, got {fov}")
+        a = _number("aspect", aspect)
+        if not 1 / _MAX_ASPECT <= a <= _MAX_ASPECT:
+            raise ValueError(
+                f"aspect: must be a width/height ratio in [1/{_MAX_ASPECT}, {_MAX_ASPECT}], got {a}"
+            )
+        m = _number("margin", margin)
+        if not (m > 0 and math.isfinite(m)):
+            raise ValueError(f"margin: must be finite and > 0, got {m}")
+        half_v = math.radians(fov) / 2
+        half_h = math.atan(math.tan(half_v) * a)
         half = min(half_v, half_h)
-        dist = r * _number("margin", margin) / math.sin(half)
+        dist = r * m / math.sin(half)
+        if not math.isfinite(dist):
+            raise ValueError(f"radius: {r} is too large to frame (the eye would be at distance {dist})")
         c = np.array(vec3("center", center))
         eye = c + d * dist
         return cls.perspective(eye, c, up, fovy, near=max(dist - 2 * r, dist * 1e-3), far=dist + 4 * r)
@@ -214,6 +231,12 @@ class Camera:
         """The projection matrix ``P`` (4×4, OpenGL clip space) for an image of ``aspect`` = width/height."""
         return np.array(self._c.projection_matrix(_number("aspect", aspect)), dtype=np.float64)
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # The stored float32 fields, not the degrees of the public constructors (whose conversion to
+        # radians would not give back the same bits).
+        c = self._c
+        return (_rebuild_camera, (c.kind, c.eye, c.target, c.up, c.extent, c.near, c.far))
+
     def __repr__(self) -> str:
         e, t = self.eye, self.target
         eye = ", ".join(f"{x:g}" for x in e)
@@ -221,3 +244,20 @@ class Camera:
         if self.kind == "perspective":
             return f"brdfpy.Camera.perspective(eye=({eye}), target=({tgt}), fovy={self.fovy:g})"
         return f"brdfpy.Camera.orthographic(eye=({eye}), target=({tgt}), height={self.height:g})"
+
+
+def _rebuild_camera(
+    kind: str,
+    eye: list[float],
+    target: list[float],
+    up: list[float],
+    extent: float,
+    near: float,
+    far: float,
+) -> Camera:
+    make = _brdfpy.RasterCamera.perspective if kind == "perspective" else _brdfpy.RasterCamera.orthographic
+    return Camera._wrap(make(_v3(eye), _v3(target), _v3(up), extent, near, far))
+
+
+def _v3(x: list[float]) -> tuple[float, float, float]:
+    return (x[0], x[1], x[2])

@@ -1,4 +1,4 @@
-"""BRDF properties as checks a user can run on any model (SPEC row 19; seeds 001, 002, 003).
+"""BRDF properties as checks a user can run on any model (Nicodemus et al. 1977; pbrt-v4 §4.3).
 
 A physical BRDF is non-negative, reciprocal (Helmholtz: ``f_r(l, v) = f_r(v, l)``) and conserves energy (its
 directional albedo ``ρ(v) = ∫ f_r(l, v) cos θ_l dω_l`` is at most 1 for every ``v``). Every check is
@@ -15,15 +15,22 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_scalars
+from brdfpy._arrays import as_float, as_int, as_scalars
+from brdfpy._renamed import renamed_keywords
 from brdfpy.microfacet import Lobe, _lobe, _lobes
 from brdfpy.models import Model
+from brdfpy.sampling import AlbedoBySampling, Chi2Result, albedo_by_sampling, chi2, pdf_integral
 
 __all__ = [
+    "AlbedoBySampling",
     "CheckReport",
+    "Chi2Result",
+    "albedo_by_sampling",
     "check",
+    "chi2",
     "d_normalization",
     "directional_albedo",
+    "pdf_integral",
     "positivity",
     "reciprocity_error",
 ]
@@ -50,23 +57,25 @@ def _model(model: object) -> Model:
     return model  # type: ignore[return-value]
 
 
-def reciprocity_error(model: Model, n: int = 10000, seed: int = 0) -> float:
-    """Largest relative violation of Helmholtz reciprocity over ``n`` random configurations.
+@renamed_keywords(n="samples")
+def reciprocity_error(model: Model, samples: int = 10000, seed: int = 0) -> float:
+    """Largest relative violation of Helmholtz reciprocity over ``samples`` random configurations.
 
     ``max |f(l, v) − f(v, l)| / max(|f(l, v)|, |f(v, l)|, 1e-6)`` over every channel, with random unit
     normals and tangents and ``l``, ``v`` uniform over the hemisphere (seeded by ``seed``). A few float32
     ulps (≲ 1e-6) for a reciprocal model; course formulas generally are not reciprocal. NaN if the model
     returned a non-finite value.
     """
-    return float(_brdfpy.reciprocity_error(_model(model), n, seed))
+    return float(_brdfpy.reciprocity_error(_model(model), samples, seed))
 
 
-def positivity(model: Model, n: int = 10000, seed: int = 0) -> float:
-    """Smallest channel of ``f_r`` [1/sr] over ``n`` random configurations: ≥ 0 for a valid BRDF.
+@renamed_keywords(n="samples")
+def positivity(model: Model, samples: int = 10000, seed: int = 0) -> float:
+    """Smallest channel of ``f_r`` [1/sr] over ``samples`` random configurations: ≥ 0 for a valid BRDF.
 
     NaN if the model returned a non-finite value.
     """
-    return float(_brdfpy.positivity(_model(model), n, seed))
+    return float(_brdfpy.positivity(_model(model), samples, seed))
 
 
 def directional_albedo(
@@ -101,7 +110,13 @@ def directional_albedo(
     numpy.ndarray of float32, shape (K, 3)
     """
     c = as_scalars("cos_theta_v", cos_theta_v).reshape(-1)
-    return _brdfpy.directional_albedo(_model(model), c, n_theta, n_phi, float(min_panel))
+    return _brdfpy.directional_albedo(
+        _model(model),
+        c,
+        as_int("n_theta", n_theta, 1, 64),
+        as_int("n_phi", n_phi, 1, 64),
+        as_float("min_panel", min_panel),
+    )
 
 
 def d_normalization(
@@ -122,7 +137,14 @@ def d_normalization(
     ``min_panel``.
     """
     lobes = _lobe(distribution, alpha, alpha_y) if isinstance(distribution, str) else _lobes(distribution)
-    return float(_brdfpy.d_normalization(lobes, n_theta, n_phi, float(min_panel)))
+    return float(
+        _brdfpy.d_normalization(
+            lobes,
+            as_int("n_theta", n_theta, 1, 64),
+            as_int("n_phi", n_phi, 1, 64),
+            as_float("min_panel", min_panel),
+        )
+    )
 
 
 def check(model: Model) -> CheckReport:

@@ -7,6 +7,13 @@ Sub-commands:
 
 ``gallery``
     Write a PNG contact sheet of lit spheres, one per reflectance model (see :mod:`brdfpy.gallery`).
+
+``plot``, ``explore``
+    Plot a model's BRDF Explorer views to a file; serve the interactive explorer (see
+    :mod:`brdfpy.views_cli`).
+
+``batch``
+    Render a sweep spec on a Dask cluster into a folder (see :mod:`brdfpy.batch_cli`).
 """
 
 from __future__ import annotations
@@ -19,11 +26,12 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
-from brdfpy import __version__, gallery, models, render_cmd, tonemap
+from brdfpy import __version__, batch_cli, gallery, models, render_cmd, views, views_cli
+from brdfpy.lights import DirectionalLight
 
 __all__ = ["main"]
 
-_COMMANDS = ("gallery", "render")
+_COMMANDS = ("gallery", "render", "plot", "explore", "batch")
 
 
 def _parse_params(items: Sequence[str]) -> dict[str, dict[str, Any]]:
@@ -39,12 +47,12 @@ def _parse_params(items: Sequence[str]) -> dict[str, dict[str, Any]]:
     return out
 
 
-def _parse_light(text: str) -> tuple[float, float, float]:
-    try:
-        x, y, z = (float(p) for p in text.split(","))
-    except ValueError:
-        raise ValueError(f"--light: expected three comma-separated numbers x,y,z, got {text!r}") from None
-    return (x, y, z)
+def _parse_light(text: str) -> DirectionalLight:
+    """The gallery's ``--light``: ``dir:DX,DY,DZ`` (direction of travel) or ``from:X,Y,Z`` (toward the
+    light), the spelling of ``brdfpy render --light``; R,G,B is refused by the gallery itself."""
+    light = render_cmd.parse_light(text, kinds=("dir", "from"))
+    assert isinstance(light, DirectionalLight)  # the only kinds asked for
+    return light
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -56,6 +64,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"brdfpy {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     render_cmd.add_parser(sub)
+    views_cli.add_plot_parser(sub)
+    views_cli.add_explore_parser(sub)
+    batch_cli.add_parser(sub)
     g = sub.add_parser(
         "gallery",
         help="write a PNG contact sheet of lit spheres, one per model",
@@ -64,14 +75,15 @@ def _parser() -> argparse.ArgumentParser:
             "Each sphere is shaded per pixel from its analytic normal (orthographic view along -z, viewer "
             "v = +z) by one directional light and a faint uniform sky. Physical models are lit with "
             "irradiance pi (a white Lambert sphere shows its albedo), classic course models by their "
-            "formula as written; anisotropic models get tangents circling the view axis.",
+            "formula as written; anisotropic models get tangents circling the vertical axis.",
             width=78,
         ),
         epilog="Examples:\n"
         "  brdfpy gallery -o spheres.png\n"
         "  brdfpy gallery --models lambert,cook_torrance,ward --size 256 --columns 3\n"
         "  brdfpy gallery --param cook_torrance.roughness=0.1 --param cook_torrance.metal=au\n"
-        "  brdfpy gallery --light -1,1,0.5 --tonemap aces --exposure 1\n\n"
+        "  brdfpy gallery --light from:-1,1,0.5 --tonemap aces --exposure 1\n"
+        "  brdfpy gallery --light dir:1,-1,-0.5        # the same light, by its direction of travel\n\n"
         + textwrap.fill(f"Models: {', '.join(models())}.", width=78),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -93,15 +105,16 @@ def _parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="MODEL.KEY=VALUE",
-        help="set a model parameter, e.g. cook_torrance.roughness=0.1 or lambert.albedo=0.8,0.2,0.2 "
+        help="set a model parameter, e.g. cook_torrance.roughness=0.1 or lambert.kd=0.8,0.2,0.2 "
         "(colors and arrays as comma-separated numbers, true/false for flags); repeatable",
     )
     g.add_argument(
         "--light",
-        default="1,1,1",
-        metavar="X,Y,Z",
-        help="direction toward the light (need not be unit length; +x right, +y up, +z toward the viewer; "
-        "default 1,1,1: upper right, in front)",
+        default="dir:-1,-1,-1",
+        metavar="SPEC",
+        help="the directional light, as in 'brdfpy render --light': dir:DX,DY,DZ is the direction in which "
+        "it travels, from:X,Y,Z the direction toward it (need not be unit length; +x right, +y up, +z "
+        "toward the viewer; default dir:-1,-1,-1, i.e. from:1,1,1: from the upper right, in front)",
     )
     g.add_argument(
         "--size", type=int, default=160, metavar="PIXELS", help="sphere diameter in pixels (default 160)"
@@ -115,9 +128,10 @@ def _parser() -> argparse.ArgumentParser:
     )
     g.add_argument(
         "--tonemap",
-        default="clamp",
-        choices=tonemap.OPERATORS,
-        help="how HDR values above 1 are mapped into [0, 1] before sRGB encoding (default clamp)",
+        default="auto",
+        choices=views.SPHERE_TONEMAPS,
+        help="how HDR values above 1 are mapped into [0, 1] before sRGB encoding (default auto: extended "
+        "Reinhard with the white point at each sphere's peak, so highlights keep their fall-off)",
     )
     g.add_argument(
         "--exposure",
@@ -167,16 +181,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     # "--light -1,1,0.5": argparse would take "-1,1,0.5" for an option; glue such values to their flag.
     glued: list[str] = []
     for a in args_in:
-        flags = ("--light", "--exposure", "--ambient", *render_cmd.NEGATIVE_VALUE_FLAGS)
-        if glued and glued[-1] in flags and re.match(r"^-[\d.]", a):
+        flags = ("--light", "--exposure", "--ambient", "--theta-i", "--phi", *render_cmd.NEGATIVE_VALUE_FLAGS)
+        negative_axis = glued and glued[-1] == "--up" and a.lower() in ("-x", "-y", "-z")
+        if glued and (negative_axis or (glued[-1] in flags and re.match(r"^-[\d.]", a))):
             glued[-1] = f"{glued[-1]}={a}"
         else:
             glued.append(a)
     args_in = glued
     parser = _parser()
     args = parser.parse_args(args_in)
+    run = {
+        "render": render_cmd.run,
+        "plot": views_cli.run_plot,
+        "explore": views_cli.run_explore,
+        "batch": batch_cli.run,
+    }
     try:
-        return render_cmd.run(args) if args.command == "render" else _gallery(args)
+        return run.get(args.command, _gallery)(args)
+    except ImportError as e:
+        print(f"brdfpy {args.command}: error: {e}", file=sys.stderr)
+        return 2
     except (ValueError, TypeError, OSError) as e:
         print(f"brdfpy {args.command}: error: {e}", file=sys.stderr)
         return 2

@@ -3,8 +3,10 @@
 ``cos_i`` is the cosine between the incident direction and the (micro)surface normal — in a microfacet BRDF
 ``v·h = l·h`` — as an array of any shape; the result is float32 of the same shape, with a trailing axis of 3
 when a parameter is an RGB triple. Indices of refraction ``eta`` are relative: ``η_t / η_i`` (inside over
-outside, e.g. 1.5 for air → glass). Sources: seeds 001, 002, 004; the forms chosen where the seeds slip are
-documented in brdf-core ``fresnel.rs`` (e.g. the exact dielectric denominator ``[c(g − c) + 1]²``).
+outside, e.g. 1.5 for air → glass). Sources: the Fresnel equations (Born & Wolf, *Principles of Optics*,
+§1.5), Cook & Torrance 1982, Schlick 1994, and pbrt-v4 (Pharr, Jakob & Humphreys 2023, §9.3) for the
+conductor and the conventions; brdf-core ``fresnel.rs`` says which form is used where texts differ (e.g. the
+exact dielectric denominator ``[c(g − c) + 1]²``).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_scalars, as_vec3_args
+from brdfpy._arrays import as_scalars, as_vectors
 
 __all__ = [
     "METALS",
@@ -35,7 +37,8 @@ F32 = NDArray[np.float32]
 #: A number (gray) or three numbers (linear RGB).
 Channels = Union[float, Sequence[float], NDArray[np.floating]]
 
-#: Symbols of the metals in seed 001's F0 table (``metal_f0`` also takes English names, e.g. "gold").
+#: Symbols of the metals in the F0 table (N. Hoffman, "Physics and Math of Shading", SIGGRAPH 2010
+#: course); ``metal_f0`` also takes English names, e.g. "gold".
 METALS: tuple[str, ...] = tuple(_brdfpy.metal_names())
 
 
@@ -54,7 +57,7 @@ def _cos(cos_i: ArrayLike) -> F32:
 
 
 def dielectric(cos_i: ArrayLike, eta: Channels) -> F32:
-    """Exact unpolarised Fresnel reflectance of a dielectric, ``R = (R_s + R_p)/2`` (seeds 001, 002).
+    """Exact unpolarised Fresnel reflectance of a dielectric, ``R = (R_s + R_p)/2`` (Born & Wolf §1.5).
 
     ``R_s = ((c − η cos_t)/(c + η cos_t))²``, ``R_p = ((η c − cos_t)/(η c + cos_t))²`` with Snell's
     ``sin θ_t = sin θ_i / η``. ``cos_i < 0`` means the light arrives from inside (η → 1/η); total internal
@@ -82,7 +85,7 @@ def dielectric_sp(cos_i: ArrayLike, eta: float) -> tuple[F32, F32]:
 
 
 def conductor(cos_i: ArrayLike, eta: Channels, k: Channels) -> F32:
-    """Exact Fresnel reflectance of a conductor with complex index ``η − iκ`` (seed 001).
+    """Exact Fresnel reflectance of a conductor with complex index ``η − iκ`` (pbrt-v4 §9.3.6).
 
     Unpolarised ``(|r_s|² + |r_p|²)/2`` in the closed form of pbrt / Mitsuba (K. D. Möller, *Optics*);
     ``κ = 0`` gives :func:`dielectric`. ``eta`` > 0 and ``k`` ≥ 0 are numbers or RGB triples; an RGB one
@@ -92,7 +95,7 @@ def conductor(cos_i: ArrayLike, eta: Channels, k: Channels) -> F32:
 
 
 def schlick(cos_i: ArrayLike, f0: Channels) -> F32:
-    """Schlick's approximation ``F = F0 + (1 − F0)(1 − |cos_i|)^5`` (Schlick 1994; seeds 001, 002).
+    """Schlick's approximation ``F = F0 + (1 − F0)(1 − |cos_i|)^5`` (Schlick 1994).
 
     ``f0`` in [0, 1] is the reflectance at normal incidence (gray or RGB). Valid from the optically thinner
     side: it has no η and no total internal reflection.
@@ -101,7 +104,7 @@ def schlick(cos_i: ArrayLike, f0: Channels) -> F32:
 
 
 def color_shift(cos_i: ArrayLike, f0: Channels, f0_ref: float | None = None) -> F32:
-    """Cook & Torrance's colour-shift Fresnel (1982; seeds 001, 004), per RGB channel.
+    """Cook & Torrance's colour-shift Fresnel (1982), per RGB channel.
 
     The exact dielectric curve ``F_ref`` of the index ``η_ref = (1 + √F0_ref)/(1 − √F0_ref)`` is computed
     once, and every channel follows it from its own F0 to 1:
@@ -117,7 +120,7 @@ def _scalar_or_array(x: F32, given: ArrayLike) -> float | F32:
 
 
 def f0_from_ior(eta: ArrayLike) -> float | F32:
-    """Reflectance at normal incidence of a dielectric, ``F0 = ((η − 1)/(η + 1))²`` (seed 001); 0.04 for 1.5.
+    """Reflectance at normal incidence of a dielectric, ``F0 = ((η − 1)/(η + 1))²``; 0.04 for 1.5.
 
     A number gives a float, an array an array of its shape. ``eta`` must be finite and > 0.
     """
@@ -125,7 +128,7 @@ def f0_from_ior(eta: ArrayLike) -> float | F32:
 
 
 def ior_from_f0(f0: ArrayLike) -> float | F32:
-    """The index ``η = (1 + √F0)/(1 − √F0)`` ≥ 1 of normal-incidence reflectance ``f0`` ∈ [0, 1) (seed 001).
+    """The index ``η = (1 + √F0)/(1 − √F0)`` ≥ 1 of normal-incidence reflectance ``f0`` ∈ [0, 1).
 
     A number gives a float, an array an array of its shape.
     """
@@ -133,7 +136,7 @@ def ior_from_f0(f0: ArrayLike) -> float | F32:
 
 
 def metal_f0(name: str) -> F32:
-    """Linear-RGB reflectance at normal incidence of a metal from seed 001's table, shape (3,).
+    """Linear-RGB reflectance at normal incidence of a metal from Hoffman's table (SIGGRAPH 2010), shape (3,).
 
     ``name`` is a symbol from :data:`METALS` or an English name (``"au"`` or ``"gold"``), any case. Values are
     the table's verbatim: gold's red channel is 1.022, outside [0, 1] because the measured spectrum was
@@ -145,30 +148,29 @@ def metal_f0(name: str) -> F32:
 
 
 def split(w: ArrayLike, n: ArrayLike, eta: float) -> tuple[F32, F32, F32, F32]:
-    """What happens to light meeting a smooth dielectric interface (seed 001 "Refraction"; seed 003).
+    """What happens to light meeting a smooth dielectric interface (Snell's law and the Fresnel equations).
 
     Parameters
     ----------
-    w : array_like, shape (N, 3) or (3,)
+    w : array_like, shape (..., 3)
         Direction toward where the light comes from (away from the surface; normalised here).
-    n : array_like, shape (N, 3) or (3,)
-        Normal on the outside (normalised here). ``w`` on the inside flips it and inverts ``eta``.
+    n : array_like, shape (..., 3)
+        Normal on the outside (normalised here), broadcast against ``w``. ``w`` on the inside flips it and
+        inverts ``eta``.
     eta : float
         ``η_inside / η_outside`` (> 0), e.g. 1.5 for glass in air.
 
     Returns
     -------
-    r : float32 (N, 3)
+    r : float32, shape (broadcast) + (3,)
         Mirror direction ``2(n·w)n − w``.
-    t : float32 (N, 3)
+    t : float32, shape (broadcast) + (3,)
         Refracted direction by Snell's law, pointing away on the other side; 0 on total internal reflection.
-    R, T : float32 (N,)
+    R, T : float32, shape (broadcast)
         Reflected power fraction (exact unpolarised Fresnel) and transmitted ``T = 1 − R`` (0 on TIR). The
         transmitted *radiance* is further scaled by ``(η_t/η_i)²``.
     """
-    (wa, na), _ = as_vec3_args(w=w, n=n)
-    assert wa is not None and na is not None
     e = _channels("eta", eta)
     if len(e) != 1:
         raise ValueError("eta: expected one number")
-    return _brdfpy.split(wa, na, e[0])
+    return _brdfpy.split(as_vectors("w", w), as_vectors("n", n), e[0])

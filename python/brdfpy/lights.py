@@ -1,14 +1,27 @@
-"""Light sources for scenes (seed 002, SPEC rows 14–15): directional, point and spot lights.
+"""Light sources for scenes: directional, point and spot lights.
 
 Each light answers, at a surface point, from which direction ``l`` light arrives and with which
-irradiance ``E``; a render adds ``E · model.shade(l, v, n)`` per light. Colors are linear RGB (a number
-means gray). Angles are in **degrees**.
+irradiance ``E``; a render adds ``E · model.shade(l, v, n)`` per light. Angles are in **degrees**.
+
+One convention for every light (that of glTF's ``KHR_lights_punctual`` and of three.js):
+
+- **color** and **intensity** on every kind: ``color`` is the light's linear RGB colour (a number means gray,
+  default white) and ``intensity`` its strength (a number, or three for a per-channel strength; default 1).
+  The light emits ``color ∘ intensity``: for a :class:`DirectionalLight` the irradiance [W/m²] on a surface
+  facing it, for a :class:`PointLight` or :class:`SpotLight` the radiant intensity [W/sr] (on the axis of a
+  spot). ``PointLight(p, intensity=10)`` and ``PointLight(p, color=10)`` are the same light; say
+  ``color=(1, 0.9, 0.8), intensity=10`` to keep the two apart.
+- **direction** is always the direction in which the light **travels** (from the light into the scene):
+  ``DirectionalLight((0, -1, 0))`` shines straight down, as does ``SpotLight(p, (0, -1, 0))``. (The
+  direction *toward* the light is the ``l`` of the reflectance models, what :meth:`Light.incident` returns.)
 
 Attenuation of point and spot lights (``attenuation=``):
 
 - ``"inverse_square"`` (default): ``E = I / d²``, the physical law (``I`` a radiant intensity);
 - ``"none"``: ``E = I`` at any distance;
-- ``(c1, c2, c3)``: the Phong model's distance factor ``E = I / (c1 + c2·d + c3·d²)`` (seed 004).
+- ``(c1, c2, c3)``: the distance factor of Phong's illumination model as given by Foley, van Dam, Feiner &
+  Hughes, *Computer Graphics: Principles and Practice* (2nd ed., 1990, §16.1), ``E = I / (c1 + c2·d + c3·d²)``
+  (without Foley's ``min(1, ·)``: ``c1 < 1`` brightens points near the light).
 """
 
 from __future__ import annotations
@@ -26,6 +39,8 @@ __all__ = ["Attenuation", "DirectionalLight", "Light", "PointLight", "SpotLight"
 
 #: ``"inverse_square"``, ``"none"`` or polynomial coefficients ``(c1, c2, c3)``.
 Attenuation = Union[str, tuple[float, float, float], None]
+
+_F32_MAX = float(np.finfo(np.float32).max)
 
 
 def color3(name: str, x: Any) -> tuple[float, float, float]:
@@ -55,12 +70,59 @@ def _attenuation(x: Any) -> str | tuple[float, float, float]:
     return c
 
 
-class Light:
-    """Base class of the lights; see :class:`DirectionalLight`, :class:`PointLight`, :class:`SpotLight`."""
+def _emitted(color: Any, intensity: Any) -> tuple[float, float, float]:
+    """``color ∘ intensity``, both checked (finite, ≥ 0), each named in an error."""
+    c, k = color3("color", color), color3("intensity", intensity)
+    e = (c[0] * k[0], c[1] * k[1], c[2] * k[2])
+    if not all(v <= _F32_MAX for v in e):
+        raise ValueError(
+            f"color, intensity: their product exceeds the float32 range, got color {list(c)}, "
+            f"intensity {list(k)}"
+        )
+    return e
 
-    __slots__ = ("_l",)
+
+class Light:
+    """Base class of the lights; see :class:`DirectionalLight`, :class:`PointLight`, :class:`SpotLight`.
+
+    Every light has a :attr:`color` and an :attr:`intensity` (see the module documentation: it emits
+    ``color ∘ intensity``) and answers :meth:`incident`."""
+
+    __slots__ = ("_color", "_intensity", "_l")
 
     _l: _brdfpy.RasterLight
+    _color: tuple[float, float, float]
+    _intensity: tuple[float, float, float]
+
+    def __init__(self) -> None:
+        raise TypeError("Light: is the base class; build a DirectionalLight, PointLight or SpotLight")
+
+    def _set_amount(self, color: Any, intensity: Any) -> tuple[float, float, float]:
+        emitted = _emitted(color, intensity)
+        self._color, self._intensity = color3("color", color), color3("intensity", intensity)
+        return emitted
+
+    @property
+    def color(self) -> tuple[float, float, float]:
+        """The light's colour (linear RGB), as given."""
+        return self._color
+
+    @property
+    def intensity(self) -> tuple[float, float, float]:
+        """The light's intensity (per channel), as given."""
+        return self._intensity
+
+    @property
+    def emitted(self) -> tuple[float, float, float]:
+        """``color ∘ intensity``: the irradiance [W/m²] of a directional light on a surface facing it, the
+        radiant intensity [W/sr] of a point light (of a spot light on its axis)."""
+        f = self._fields()
+        return tuple(f["color"] if f["kind"] == "directional" else f["intensity"])
+
+    def __new__(cls, *args: Any, **kwargs: Any) -> Light:
+        if cls is Light:
+            raise TypeError("Light is the base class: create a DirectionalLight, PointLight or SpotLight")
+        return super().__new__(cls)
 
     def incident(
         self, p: ArrayLike
@@ -76,9 +138,17 @@ class Light:
     def _fields(self) -> dict[str, Any]:
         return dict(self._l.fields())
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # The stored fields (radians, unit direction), rebuilt with the same bits, and color / intensity
+        # as given (the renderer stores only their product).
+        return (_rebuild_light, (type(self), self._fields(), self._color, self._intensity))
+
     def __repr__(self) -> str:
         f = self._fields()
         f.pop("kind")
+        # The renderer's field holds color ∘ intensity; show the two as given.
+        f.pop("color", None)
+        f["color"], f["intensity"] = self._color, self._intensity
         for k in ("inner_angle", "outer_angle"):
             if k in f:
                 f[k] = round(math.degrees(f[k]), 4)
@@ -98,56 +168,58 @@ class DirectionalLight(Light):
         The direction in which the light **travels** (from the light into the scene; normalised here).
         The default ``(-1, -1, -1)`` comes from the upper right front.
     color : number or three numbers
-        Irradiance on a surface facing the light (linear RGB).
+        The light's colour (linear RGB; a number means gray). Default white.
+    intensity : number or three numbers
+        Its strength. The irradiance on a surface facing the light is ``color ∘ intensity`` [W/m²].
     """
 
     __slots__ = ()
 
-    def __init__(self, direction: ArrayLike = (-1.0, -1.0, -1.0), color: Any = 1.0) -> None:
-        self._l = _brdfpy.RasterLight.directional(vec3("direction", direction), color3("color", color))
+    def __init__(
+        self, direction: ArrayLike = (-1.0, -1.0, -1.0), color: Any = 1.0, *, intensity: Any = 1.0
+    ) -> None:
+        d = vec3("direction", direction)
+        self._l = _brdfpy.RasterLight.directional(d, self._set_amount(color, intensity))
 
     @property
     def direction(self) -> tuple[float, float, float]:
         """Unit direction of travel."""
         return tuple(self._fields()["direction"])
 
-    @property
-    def color(self) -> tuple[float, float, float]:
-        """Irradiance (linear RGB)."""
-        return tuple(self._fields()["color"])
-
 
 class PointLight(Light):
-    """An infinitely small light at ``position`` radiating ``intensity`` in every direction.
+    """An infinitely small light at ``position`` radiating ``color ∘ intensity`` in every direction.
 
     Parameters
     ----------
     position : three numbers
     intensity : number or three numbers
-        Radiant intensity (linear RGB); with the default inverse-square attenuation a surface at distance
-        ``d`` facing the light receives ``intensity / d²``.
+        Its strength: the radiant intensity is ``color ∘ intensity`` [W/sr]; with the default
+        inverse-square attenuation a surface at distance ``d`` facing the light receives that over ``d²``.
     attenuation : "inverse_square", "none" or (c1, c2, c3)
         See the module documentation.
+    color : number or three numbers, keyword
+        The light's colour (linear RGB; a number means gray). Default white.
     """
 
     __slots__ = ()
 
     def __init__(
-        self, position: ArrayLike, intensity: Any = 1.0, attenuation: Attenuation = "inverse_square"
+        self,
+        position: ArrayLike,
+        intensity: Any = 1.0,
+        attenuation: Attenuation = "inverse_square",
+        *,
+        color: Any = 1.0,
     ) -> None:
-        self._l = _brdfpy.RasterLight.point(
-            vec3("position", position), color3("intensity", intensity), _attenuation(attenuation)
-        )
+        p = vec3("position", position)
+        emitted = self._set_amount(color, intensity)
+        self._l = _brdfpy.RasterLight.point(p, emitted, _attenuation(attenuation))
 
     @property
     def position(self) -> tuple[float, float, float]:
         """Position of the light."""
         return tuple(self._fields()["position"])
-
-    @property
-    def intensity(self) -> tuple[float, float, float]:
-        """Radiant intensity (linear RGB)."""
-        return tuple(self._fields()["intensity"])
 
 
 class SpotLight(Light):
@@ -160,12 +232,15 @@ class SpotLight(Light):
     ----------
     position : three numbers
     direction : three numbers
-        Axis of the cone: where the spot points (normalised here).
+        Axis of the cone: the direction in which the light **travels** (where the spot points; normalised
+        here).
     intensity : number or three numbers
-        Radiant intensity on the axis (linear RGB).
+        Its strength: the radiant intensity on the axis is ``color ∘ intensity`` [W/sr].
     inner_angle, outer_angle : float
         Half-angles of the cone in **degrees**, ``0 <= inner_angle <= outer_angle < 180``.
     attenuation : "inverse_square", "none" or (c1, c2, c3)
+    color : number or three numbers, keyword
+        The light's colour (linear RGB; a number means gray). Default white.
     """
 
     __slots__ = ()
@@ -178,6 +253,8 @@ class SpotLight(Light):
         inner_angle: float = 20.0,
         outer_angle: float = 30.0,
         attenuation: Attenuation = "inverse_square",
+        *,
+        color: Any = 1.0,
     ) -> None:
         angles = []
         for name, a in (("inner_angle", inner_angle), ("outer_angle", outer_angle)):
@@ -191,11 +268,39 @@ class SpotLight(Light):
                 f"inner_angle: must lie in [0, outer_angle = {angles[1]}] degrees, got {angles[0]}"
             )
         angles = [math.radians(a) for a in angles]
+        p, d = vec3("position", position), vec3("direction", direction)
         self._l = _brdfpy.RasterLight.spot(
-            vec3("position", position),
-            vec3("direction", direction),
-            color3("intensity", intensity),
-            angles[0],
-            angles[1],
-            _attenuation(attenuation),
+            p, d, self._set_amount(color, intensity), angles[0], angles[1], _attenuation(attenuation)
         )
+
+    @property
+    def position(self) -> tuple[float, float, float]:
+        """Position of the light."""
+        return tuple(self._fields()["position"])
+
+    @property
+    def direction(self) -> tuple[float, float, float]:
+        """Unit direction of travel (the cone's axis)."""
+        return tuple(self._fields()["direction"])
+
+
+def _rebuild_light(cls: type[Light], f: dict[str, Any], color: Any = None, intensity: Any = None) -> Light:
+    raw = _brdfpy.RasterLight
+    kind = f["kind"]
+    if kind == "directional":
+        l = raw.directional(f["direction"], f["color"])
+    elif kind == "point":
+        l = raw.point(f["position"], f["intensity"], f["attenuation"])
+    else:
+        angles = (f["inner_angle"], f["outer_angle"])
+        l = raw.spot(f["position"], f["direction"], f["intensity"], *angles, f["attenuation"])
+    if kind != "point":
+        # The constructors normalise the direction; keep the stored one instead (the same bits).
+        l = _brdfpy._light_with_direction(l, f["direction"])
+    light = cls.__new__(cls)
+    light._l = l
+    emitted = f["color"] if kind == "directional" else f["intensity"]
+    # A pickle without the two as given (older brdfpy) reads as colour = what is emitted, intensity 1.
+    light._color = color3("color", emitted if color is None else color)
+    light._intensity = color3("intensity", 1.0 if intensity is None else intensity)
+    return light

@@ -1,5 +1,7 @@
-"""Measured BRDFs (seed 003): a tabulated isotropic BRDF with interpolated look-up, the MERL ``.binary``
-format, and fitting an analytic model's parameters to samples.
+"""Measured BRDFs (Matusik, Pfister, Brand & McMillan 2003, "A Data-Driven Reflectance Model").
+
+A tabulated isotropic BRDF with interpolated look-up, the MERL ``.binary`` format, and fitting an analytic
+model's parameters to samples.
 
 The table lives on Rusinkiewicz's half/difference angles ``(θ_h, θ_d, φ_d)`` in the layout of the MERL
 database (Matusik et al. 2003): ``θ_h`` nodes at ``(i / n)² · π/2``, ``θ_d`` at ``j / n · π/2``, ``φ_d`` at
@@ -24,7 +26,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_vec3, as_vec3_args
+from brdfpy._arrays import as_vectors
+from brdfpy._paths import as_path
 from brdfpy.models import Model, ParamValue, model
 
 __all__ = ["MERL_RESOLUTION", "FitResult", "Tabulated", "fit"]
@@ -49,7 +52,7 @@ class Tabulated:
         if a.dtype.kind not in "fiu":
             raise TypeError(f"table: expected real numbers, got dtype {a.dtype}")
         with np.errstate(over="ignore", invalid="ignore"):
-            a32 = np.ascontiguousarray(a, dtype=np.float32)
+            a32 = np.require(a, np.float32, ["C", "A"])  # contiguous and aligned (e.g. a network buffer)
         self._inner = _brdfpy.Tabulated(a32)
 
     @classmethod
@@ -75,22 +78,25 @@ class Tabulated:
 
     def as_model(self) -> Model:
         """This table as a :class:`brdfpy.Model` named ``"measured"`` (no parameters, physical, isotropic):
-        a material for :meth:`brdfpy.Scene.add` (seed 003, "Rendering from Measured BRDF": look-up with
-        interpolation during rendering), and a model for :mod:`brdfpy.checks` and batch evaluation. The
-        model holds its own copy of the table."""
+        a material for :meth:`brdfpy.Scene.add` (look-up with interpolation during rendering, as in
+        Matusik et al. 2003), and a model for :mod:`brdfpy.checks` and batch evaluation. The
+        model shares the table (it is immutable), so this costs no copy."""
         return Model("measured", _table=self._inner)
 
     @classmethod
     def load_merl(cls, path: str | os.PathLike[str]) -> Tabulated:
         """Read a MERL ``.binary`` file (3 little-endian int32 dimensions, then float64 values per channel,
         scaled by 1/1500, 1.15/1500, 1.66/1500). Negative values (MERL's "no data") become 0."""
-        with open(path, "rb") as f:
+        with open(as_path("path", path), "rb") as f:
             data = f.read()
         return cls._wrap(_brdfpy.Tabulated.from_merl_bytes(data))
 
     @classmethod
     def from_merl_bytes(cls, data: bytes) -> Tabulated:
         """Parse the bytes of a MERL ``.binary`` file (see :meth:`load_merl`)."""
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            # bytes(-1) would say "negative count", bytes(10**12) would try to allocate a terabyte.
+            raise TypeError(f"data: expected the bytes of a MERL file, got {type(data).__name__}")
         return cls._wrap(_brdfpy.Tabulated.from_merl_bytes(bytes(data)))
 
     def to_merl_bytes(self) -> bytes:
@@ -99,7 +105,7 @@ class Tabulated:
 
     def save_merl(self, path: str | os.PathLike[str]) -> None:
         """Write the table as a MERL ``.binary`` file."""
-        with open(path, "wb") as f:
+        with open(as_path("path", path), "wb") as f:
             f.write(self._inner.to_merl_bytes())
 
     @property
@@ -117,12 +123,14 @@ class Tabulated:
         ``n·v > 0``.
 
         Arguments, shapes, broadcasting and errors as for :meth:`brdfpy.Model.eval` (no tangent: the table is
-        isotropic). Returns float32 ``(N, 3)``, or ``(3,)`` when every input was ``(3,)``.
+        isotropic): ``(..., 3)`` inputs whose leading dimensions broadcast, float32 output of the broadcast
+        shape followed by 3.
         """
-        (la, va, na), single = as_vec3_args(l=l, v=v, n=n)
-        assert la is not None and va is not None and na is not None
-        out = self._inner._eval(la, va, na)
-        return out.reshape(3) if single else out
+        return self._inner._eval(as_vectors("l", l), as_vectors("v", v), as_vectors("n", n))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # By its float32 values (the constructor keeps them bit for bit).
+        return (Tabulated, (self.table,))
 
     def __repr__(self) -> str:
         return repr(self._inner)
@@ -161,9 +169,9 @@ def fit(
     ----------
     model_name : str
         A registry name (see :func:`brdfpy.models`).
-    l, v, n : array_like, shape (N, 3) or (3,)
+    l, v, n : array_like, shape (..., 3)
         Sample directions (broadcast as in :meth:`brdfpy.Model.eval`).
-    values : array_like, shape (N, 3) or (3,)
+    values : array_like, shape (..., 3)
         Measured ``f_r`` [1/sr], finite and ``>= 0``. Samples with ``l`` or ``v`` below the surface are
         dropped.
     start : mapping
@@ -185,9 +193,13 @@ def fit(
         raise TypeError(f"model_name: expected a str, got {type(model_name).__name__}")
     if not isinstance(max_iterations, int) or max_iterations < 1:
         raise ValueError(f"max_iterations: expected a positive integer, got {max_iterations!r}")
-    (la, va, na), _ = as_vec3_args(l=l, v=v, n=n)
-    assert la is not None and va is not None and na is not None
-    fa, _ = as_vec3("values", values)
+    la, va, na = as_vectors("l", l), as_vectors("v", v), as_vectors("n", n)
+    fa = as_vectors("values", values)
+    for name, m in (("start", start), ("fixed", fixed)):
+        if m is not None and not isinstance(m, Mapping):
+            raise TypeError(
+                f"{name}: expected a mapping of parameter names to values, got {type(m).__name__}"
+            )
     start_d = _plain(dict(start))
     fixed_d = _plain(dict(fixed or {}))
     res = _brdfpy.fit_model(model_name, la, va, na, fa, start_d, fixed_d, max_iterations)

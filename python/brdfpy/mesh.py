@@ -9,15 +9,20 @@ from __future__ import annotations
 
 import copy
 import os
-from typing import Any, Union
+import warnings
+from typing import Any, Literal, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
+from brdfpy._arrays import _as_numeric
+from brdfpy._paths import as_path
 
 __all__ = [
     "BUILTIN_MESHES",
+    "ORIENT_MODES",
+    "InwardMeshWarning",
     "Mesh",
     "builtin_mesh",
     "cube",
@@ -34,21 +39,55 @@ BUILTIN_MESHES: tuple[str, ...] = tuple(_brdfpy.builtin_mesh_names())
 
 PathLike = Union[str, "os.PathLike[str]"]
 
+#: What :meth:`Mesh.from_any` and :func:`load_mesh` do with a closed mesh wound inward: ``"warn"`` (an
+#: :class:`InwardMeshWarning` with the fix), ``"outward"`` (flip it) or ``"keep"`` (say nothing).
+ORIENT_MODES: tuple[str, ...] = ("warn", "outward", "keep")
+Orient = Literal["warn", "outward", "keep"]
+
+
+class InwardMeshWarning(UserWarning):
+    """A closed mesh whose faces are wound inward (negative signed volume): back-face culling keeps the
+    inside of its far side, so it renders dark. :meth:`Mesh.flip_winding` fixes it."""
+
+
+def _check_orient(orient: Any) -> str:
+    if not isinstance(orient, str) or orient not in ORIENT_MODES:
+        raise ValueError(f"orient: expected one of {', '.join(map(repr, ORIENT_MODES))}, got {orient!r}")
+    return orient
+
+
+def _apply_orient(mesh: Mesh, orient: str, source: str) -> Mesh:
+    """``mesh`` checked (and flipped in place for ``"outward"``) by the rule of :data:`ORIENT_MODES`."""
+    if orient == "keep" or not mesh.is_inward():
+        return mesh
+    if orient == "outward":
+        return mesh.flip_winding()
+    volume = mesh.stats()["signed_volume"]
+    warnings.warn(
+        f"{source}: the mesh is closed and its faces are wound inward (signed volume {volume:.4g} < 0), so "
+        f"back-face culling shows its inside and it renders dark; fix: mesh.flip_winding() "
+        f"(or load it with orient='outward')",
+        InwardMeshWarning,
+        stacklevel=3,
+    )
+    return mesh
+
+
 _WEIGHTINGS = ("angle", "area", "equal")
 
 
-def _rows(name: str, x: ArrayLike, dtype: type[np.generic]) -> NDArray[Any]:
-    """``x`` as a C-contiguous ``(N, 3)`` array of ``dtype``, with errors naming the argument."""
+def _rows(name: str, x: ArrayLike, dtype: type[np.generic], width: int = 3) -> NDArray[Any]:
+    """``x`` as a C-contiguous ``(N, width)`` array of ``dtype``, with errors naming the argument."""
     if x is None:
-        raise TypeError(f"{name}: expected an array of shape (N, 3), got None")
+        raise TypeError(f"{name}: expected an array of shape (N, {width}), got None")
     if isinstance(x, (str, bytes)):
-        raise TypeError(f"{name}: expected an array of shape (N, 3), got {type(x).__name__}")
+        raise TypeError(f"{name}: expected an array of shape (N, {width}), got {type(x).__name__}")
     try:
         a = np.asarray(x)
     except (ValueError, TypeError) as e:
         raise ValueError(f"{name}: expected a rectangular array of numbers ({e})") from None
-    if a.ndim != 2 or a.shape[1] != 3:
-        raise ValueError(f"{name}: expected shape (N, 3), got {a.shape}")
+    if a.ndim != 2 or a.shape[1] != width:
+        raise ValueError(f"{name}: expected shape (N, {width}), got {a.shape}")
     if a.shape[0] == 0:
         raise ValueError(f"{name}: is empty (shape {a.shape})")
     if dtype is np.uint32:
@@ -59,11 +98,11 @@ def _rows(name: str, x: ArrayLike, dtype: type[np.generic]) -> NDArray[Any]:
             raise ValueError(f"{name}: face {row} has a negative vertex index {a[row].tolist()}")
         if a.max() > np.iinfo(np.uint32).max:
             raise ValueError(f"{name}: vertex indices above 2^32 - 1 are not supported")
-        return np.ascontiguousarray(a, dtype=np.uint32)
+        return np.require(a, np.uint32, ["C", "A"])  # contiguous and aligned (e.g. a network buffer)
     if a.dtype.kind not in "fiu":
         raise TypeError(f"{name}: expected real numbers, got dtype {a.dtype}")
     with np.errstate(over="ignore", invalid="ignore"):
-        out = np.ascontiguousarray(a, dtype=np.float32)
+        out = np.require(a, np.float32, ["C", "A"])
     bad = ~np.isfinite(out).all(axis=1)
     if bad.any():
         row = int(np.argmax(bad))
@@ -152,11 +191,12 @@ class Mesh:
         return m
 
     @classmethod
-    def from_any(cls, obj: Any, *, use_normals: bool = True) -> Mesh:
+    def from_any(cls, obj: Any, *, use_normals: bool = True, orient: Orient = "warn") -> Mesh:
         """A mesh from any object with ``.vertices`` and ``.faces`` (or ``.triangles``) arrays.
 
         Works with trimesh (``trimesh.Trimesh``), Open3D (``TriangleMesh``), meshio-like objects and plain
-        namespaces, without importing any of them. A :class:`Mesh` is returned as it is.
+        namespaces, without importing any of them. A :class:`Mesh` is returned as it is (with
+        ``orient="outward"``: a copy, flipped if it is wound inward).
 
         Parameters
         ----------
@@ -165,14 +205,19 @@ class Mesh:
             shape and ``use_normals`` is true; otherwise normals are computed (angle weighting).
         use_normals : bool
             Take the object's vertex normals when it has them.
+        orient : {"warn", "outward", "keep"}
+            What to do when the mesh is closed and wound inward (:meth:`is_inward`, such as a trimesh mesh
+            whose faces were reversed): warn with an :class:`InwardMeshWarning` naming the fix (default),
+            flip it outward, or keep it silently.
 
         Raises
         ------
         TypeError
             If ``obj`` has no vertices or no faces.
         """
+        mode = _check_orient(orient)
         if isinstance(obj, Mesh):
-            return obj
+            return obj.copy().orient_outward() if mode == "outward" else obj
         vertices = getattr(obj, "vertices", None)
         faces = getattr(obj, "faces", None)
         if faces is None:
@@ -209,7 +254,8 @@ class Mesh:
                     rgb /= 255.0
                 # sRGB-encoded 8-bit colors → linear.
                 colors = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-        return cls(np.asarray(vertices), np.asarray(faces), normals, colors=colors)
+        mesh = cls(np.asarray(vertices), np.asarray(faces), normals, colors=colors)
+        return _apply_orient(mesh, mode, f"obj ({type(obj).__name__})")
 
     # -- data -------------------------------------------------------------------------------------------
 
@@ -247,6 +293,11 @@ class Mesh:
     def __len__(self) -> int:
         return self._m.n_faces
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Pickled as its arrays (out-of-band buffers under pickle protocol 5, as Dask sends them) and
+        # rebuilt with the same bits: the stored normals are not normalised a second time.
+        return (_rebuild_mesh, (self.vertices, self.faces, self.normals, self.colors, self._w))
+
     def __repr__(self) -> str:
         lo, hi = self._m.bounds()
         box = " × ".join(f"{h - l:.3g}" for l, h in zip(lo, hi))
@@ -278,8 +329,9 @@ class Mesh:
     def compute_normals(self, weighting: str = "angle") -> Mesh:
         """Recompute the vertex normals from the faces, in place, and return ``self``.
 
-        Each vertex normal is the normalised sum of the unit normals of its faces, weighted by
-        (seed 004, eqs. 12.31–12.33):
+        Each vertex normal is the normalised sum of the unit normals of its faces, weighted by (Theoharis,
+        Papaioannou, Platis & Patrikalakis, *Graphics and Visualization: Principles & Algorithms*, 2008,
+        eqs. 12.31–12.33):
 
         - ``"angle"``: the face's corner angle at the vertex (Thürmer & Wüthrich; independent of how a flat
           region is triangulated — the default);
@@ -291,6 +343,18 @@ class Mesh:
         self._m.compute_normals(weighting)
         self._w = None  # the hemispheres have moved
         return self
+
+    def is_inward(self) -> bool:
+        """Whether the mesh is closed (watertight: every edge shared by exactly two faces) and wound
+        inward: its signed volume ``Σ p₀·(p₁×p₂)/6`` is negative. Such a mesh renders dark (back-face
+        culling keeps the inside of its far side) until :meth:`flip_winding`. An open mesh is never
+        reported: its signed volume depends on the origin."""
+        st = self._m.stats()
+        return bool(st["watertight"]) and float(st["signed_volume"]) < 0
+
+    def orient_outward(self) -> Mesh:
+        """Flip the winding in place when :meth:`is_inward`; returns ``self``."""
+        return self.flip_winding() if self.is_inward() else self
 
     def flip_winding(self) -> Mesh:
         """Reverse every face's winding and negate the normals, in place (for meshes wound inward, which
@@ -322,7 +386,8 @@ class Mesh:
         *,
         store: bool = False,
     ) -> NDArray[np.float32]:
-        """Per-vertex ambient obscurance ``w`` of the mesh against itself (seed 004, eqs. 12.71–12.74).
+        """Per-vertex ambient obscurance ``w`` of the mesh against itself (Zhukov, Iones & Kronin 1998,
+        in the form of Theoharis et al., *Graphics and Visualization*, 2008, eqs. 12.71–12.74).
 
         ::
 
@@ -330,7 +395,7 @@ class Mesh:
             μ(d) = (1 − e^(−τ d/d_max)) / (1 − e^(−τ))  for d < d_max,   μ(d) = 1 for d ≥ d_max,
 
         where ``d(p, ω)`` is the distance from vertex ``p`` to the first surface seen in direction ``ω`` of
-        the hemisphere around its normal. ``μ`` is the seed's ``1 − e^(−τx)`` with ``x = d/d_max``, rescaled
+        the hemisphere around its normal. ``μ`` is the book's ``1 − e^(−τx)`` with ``x = d/d_max``, rescaled
         so that it reaches 1 exactly at ``d_max``: ``w = 1`` for a vertex that sees nothing within
         ``d_max``, smaller the closer and the more surrounding surfaces are, 0 only where surfaces touch.
 
@@ -432,6 +497,24 @@ class Mesh:
         self._w = _readonly(w)
 
 
+def _rebuild_mesh(
+    vertices: NDArray[np.float32],
+    faces: NDArray[np.uint32],
+    normals: NDArray[np.float32],
+    colors: NDArray[np.float32] | None,
+    obscurance: NDArray[np.float32] | None,
+) -> Mesh:
+    # Buffers from the network may be unaligned: the compiled module reads aligned arrays only.
+    def f32(a: NDArray[np.float32]) -> NDArray[np.float32]:
+        return np.require(a, np.float32, ["C", "A"])
+
+    ids = np.require(faces, np.uint32, ["C", "A"])
+    raw = _brdfpy._mesh_from_parts(f32(vertices), ids, f32(normals), None if colors is None else f32(colors))
+    m = Mesh._wrap(raw)
+    m.obscurance = obscurance
+    return m
+
+
 def _mat4(name: str, m: ArrayLike) -> list[float]:
     try:
         a = np.asarray(m, dtype=np.float64)
@@ -445,10 +528,12 @@ def _mat4(name: str, m: ArrayLike) -> list[float]:
 
 
 def _check_int(name: str, x: Any, lo: int, hi: int | None = None) -> int:
+    """An integer in ``[lo, hi]``; without ``hi``, one the compiled module takes as a 32-bit count (whose
+    own limits then apply: beyond 2³² − 1 the conversion would raise ``OverflowError``)."""
     if isinstance(x, bool) or not isinstance(x, (int, np.integer)):
         raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
     v = int(x)
-    if v < lo or (hi is not None and v > hi):
+    if v < lo or v > (2**32 - 1 if hi is None else hi):
         rng = f">= {lo}" if hi is None else f"in [{lo}, {hi}]"
         raise ValueError(f"{name}: must be {rng}, got {v}")
     return v
@@ -473,11 +558,24 @@ def _obscurance_args(tau: Any, d_max: Any, samples: Any, seed: Any) -> tuple[flo
     )
 
 
-def load_mesh(path: PathLike) -> Mesh:
-    """Load a triangle mesh from an OBJ or PLY file (chosen by the extension).
+def load_mesh(path: PathLike, *, up: str = "y", orient: Orient = "warn") -> Mesh:
+    """Load a triangle mesh from an OBJ, PLY or STL file (chosen by the extension).
 
-    OBJ polygons are triangulated (fan), PLY may be ASCII or binary with extra properties; vertex normals
-    and colors are used when the file has them, normals are computed (angle weighting) when not.
+    OBJ polygons are triangulated (fan), PLY may be ASCII or binary with extra properties, STL binary or
+    ASCII (corners at the same position are welded into one vertex; the file's facet normals are ignored);
+    vertex normals and colors are used when the file has them, normals are computed (angle weighting) when
+    not. For glTF scenes see :func:`brdfpy.load_scene`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    up : {"y", "-y", "z", "-z", "x", "-x"}
+        The file's up axis: the mesh is rotated by :func:`brdfpy.transforms.up_to_y` to stand in brdfpy's
+        +y-up world (``"z"`` for CAD, 3D-printing and Blender exports, such as the Utah teapot).
+    orient : {"warn", "outward", "keep"}
+        A closed mesh wound inward (:meth:`Mesh.is_inward`) is reported by an :class:`InwardMeshWarning`
+        (default), flipped outward, or kept silently.
 
     Raises
     ------
@@ -486,18 +584,23 @@ def load_mesh(path: PathLike) -> Mesh:
     ValueError
         An unknown extension, or a malformed, truncated or empty file (the message names the file).
     """
-    p = os.fspath(path)
-    if not isinstance(p, str):
-        p = os.fsdecode(p)
+    p = as_path("path", path)
     if not os.path.exists(p):
         raise FileNotFoundError(f"path: no such file: {p!r}")
     if os.path.isdir(p):
         raise IsADirectoryError(f"path: is a directory: {p!r}")
-    return Mesh._wrap(_brdfpy.load_mesh(p))
+    mode = _check_orient(orient)
+    from brdfpy.transforms import up_to_y  # transforms imports camera, which needs no mesh
+
+    stand = up_to_y(up)
+    mesh = Mesh._wrap(_brdfpy.load_mesh(p))
+    if up.strip().lower().lstrip("+") != "y":
+        mesh = mesh.transformed(stand)
+    return _apply_orient(mesh, mode, p)
 
 
 def polygon_normal(points: ArrayLike, method: str = "newell") -> NDArray[np.float32]:
-    """Normal of a planar or nearly planar polygon from its vertices in order (seed 004, "Normals").
+    """Normal of a planar or nearly planar polygon from its vertices in order (Theoharis et al. 2008, ch. 12).
 
     Parameters
     ----------
@@ -514,7 +617,7 @@ def polygon_normal(points: ArrayLike, method: str = "newell") -> NDArray[np.floa
     ndarray of float32, shape (3,)
         The (unnormalised) normal.
     """
-    a = np.asarray(points, dtype=np.float64)
+    a = _as_numeric("points", points).astype(np.float64)
     if a.ndim != 2 or a.shape[1] != 3:
         raise ValueError(f"points: expected shape (K, 3), got {a.shape}")
     return np.asarray(_brdfpy.polygon_normal(a.tolist(), method), dtype=np.float32)
@@ -528,6 +631,8 @@ def builtin_mesh(name: str) -> Mesh:
 
     Both are CC0 (from CGAL's data set).
     """
+    if not isinstance(name, str):
+        raise TypeError(f"name: expected a built-in mesh name (str), got {type(name).__name__}")
     return Mesh._wrap(_brdfpy.builtin_mesh(name))
 
 

@@ -4,8 +4,8 @@ Conventions: ``h`` is the (unit) microfacet normal / half vector, ``n`` the macr
 ``v`` point away from the surface. Inputs are array-likes of shape ``(N, 3)`` or ``(3,)`` (broadcast), outputs
 float32 of shape ``(N,)``. Anisotropic distributions use ``alpha`` along ``tangent`` and ``alpha_y`` along the
 bitangent ``n × t``; without a tangent an arbitrary frame around ``n`` is used. A D is normalised:
-``∫ D(h)(n·h) dω_h = 1``. Formulas and sources: brdf-core ``microfacet/`` and ``masking.rs`` (seeds 001, 002,
-004; Walter et al. 2007; Heitz 2014).
+``∫ D(h)(n·h) dω_h = 1``. Formulas and sources: brdf-core ``microfacet/`` and ``masking.rs`` (Cook &
+Torrance 1982; Walter et al. 2007; Heitz 2014).
 
 Distributions (``alpha`` meaning): ``beckmann`` (RMS slope), ``ggx`` (Trowbridge-Reitz roughness),
 ``gaussian`` (RMS slope angle m, rad), ``blinn_phong`` (exponent ``2/α² − 2``), ``ward`` (RMS slope),
@@ -22,7 +22,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_vec3, as_vec3_args
+from brdfpy._arrays import as_float, as_vectors
+from brdfpy._renamed import name_is_keyword
 
 __all__ = ["DISTRIBUTIONS", "MASKINGS", "distribution", "g1", "lambda_", "masking", "mixture"]
 
@@ -38,8 +39,9 @@ DISTRIBUTIONS, MASKINGS = tuple(_d), tuple(_g)
 
 def _lobe(name: str, alpha: float, alpha_y: float | None) -> list[tuple[float, str, float, float | None]]:
     if not isinstance(name, str):
-        raise TypeError(f"name: expected a distribution name (str), got {type(name).__name__}")
-    return [(1.0, name, float(alpha), None if alpha_y is None else float(alpha_y))]
+        raise TypeError(f"distribution: expected a distribution name (str), got {type(name).__name__}")
+    ay = None if alpha_y is None else as_float("alpha_y", alpha_y)
+    return [(1.0, name, as_float("alpha", alpha), ay)]
 
 
 def _lobes(lobes: Sequence[Lobe]) -> list[tuple[float, str, float, float | None]]:
@@ -48,20 +50,25 @@ def _lobes(lobes: Sequence[Lobe]) -> list[tuple[float, str, float, float | None]
         if not isinstance(lobe, (tuple, list)) or len(lobe) not in (3, 4):
             raise TypeError(f"lobes[{i}]: expected (weight, name, alpha[, alpha_y]), got {lobe!r}")
         ay = lobe[3] if len(lobe) == 4 else None
-        out.append((float(lobe[0]), str(lobe[1]), float(lobe[2]), None if ay is None else float(ay)))
+        if not isinstance(lobe[1], str):
+            raise TypeError(f"lobes[{i}]: expected a distribution name, got {type(lobe[1]).__name__}")
+        where = f"lobes[{i}]"
+        w, a = as_float(f"{where} weight", lobe[0]), as_float(f"{where} alpha", lobe[2])
+        out.append((w, lobe[1], a, None if ay is None else as_float(f"{where} alpha_y", ay)))
     return out
 
 
 def _tangent(tangent: ArrayLike | None) -> F32 | None:
-    return None if tangent is None else as_vec3("tangent", tangent)[0]
+    return None if tangent is None else as_vectors("tangent", tangent)
 
 
+@name_is_keyword("distribution", "distribution(h, n, 0.3, distribution='ggx')")
 def distribution(
-    name: str,
     h: ArrayLike,
     n: ArrayLike,
     alpha: float,
     *,
+    distribution: str = "ggx",
     alpha_y: float | None = None,
     tangent: ArrayLike | None = None,
 ) -> F32:
@@ -71,33 +78,35 @@ def distribution(
 
     Parameters
     ----------
-    name : str
-        One of :data:`DISTRIBUTIONS`.
-    h, n : array_like, shape (N, 3) or (3,)
-        Half vectors and normals (normalised here).
+    h, n : array_like, shape (..., 3)
+        Half vectors and normals (normalised here), broadcast together.
     alpha : float
         Roughness (> 0; see the module docs for its meaning per distribution).
+    distribution : str
+        One of :data:`DISTRIBUTIONS` (default ``"ggx"``).
     alpha_y : float, optional
         Roughness along the bitangent for anisotropic distributions (default ``alpha``).
-    tangent : array_like, shape (N, 3) or (3,), optional
+    tangent : array_like, shape (..., 3), optional
         Direction of ``alpha``.
+
+    Returns
+    -------
+    numpy.ndarray of float32, the broadcast shape of the inputs' leading dimensions
     """
-    (ha, na), _ = as_vec3_args(h=h, n=n)
-    assert ha is not None and na is not None
-    return _brdfpy.distribution(_lobe(name, alpha, alpha_y), ha, na, _tangent(tangent))
+    d = _lobe(distribution, alpha, alpha_y)
+    return _brdfpy.distribution(d, as_vectors("h", h), as_vectors("n", n), _tangent(tangent))
 
 
 def mixture(lobes: Sequence[Lobe], h: ArrayLike, n: ArrayLike, *, tangent: ArrayLike | None = None) -> F32:
     """Weighted sum of distributions ``D = Σ wᵢ Dᵢ(h)`` with weights renormalised to ``Σ wᵢ = 1``
-    (seed 001 "BRDF – mixture"; Cook & Torrance used two Beckmann lobes), so it stays normalised.
+    (Cook & Torrance 1982 used two Beckmann lobes), so it stays normalised.
 
     ``lobes``: up to 4 of ``(weight, name, alpha)`` or ``(weight, name, alpha, alpha_y)``, weights ≥ 0.
     """
-    (ha, na), _ = as_vec3_args(h=h, n=n)
-    assert ha is not None and na is not None
-    return _brdfpy.distribution(_lobes(lobes), ha, na, _tangent(tangent))
+    return _brdfpy.distribution(_lobes(lobes), as_vectors("h", h), as_vectors("n", n), _tangent(tangent))
 
 
+@name_is_keyword("distribution", "lambda_(w, n, 0.3, distribution='ggx')")
 def lambda_(
     w: ArrayLike,
     n: ArrayLike,
@@ -109,11 +118,11 @@ def lambda_(
 ) -> F32:
     """Smith's ``Λ(w)`` of a distribution (Heitz 2014): GGX ``(−1 + √(1 + α² tan²θ))/2``, Beckmann's erf
     form, others through their Beckmann-equivalent roughness. ``+inf`` below the surface."""
-    (wa, na), _ = as_vec3_args(w=w, n=n)
-    assert wa is not None and na is not None
-    return _brdfpy.smith_lambda(_lobe(distribution, alpha, alpha_y), wa, na, _tangent(tangent), False)
+    d = _lobe(distribution, alpha, alpha_y)
+    return _brdfpy.smith_lambda(d, as_vectors("w", w), as_vectors("n", n), _tangent(tangent), False)
 
 
+@name_is_keyword("distribution", "g1(w, n, 0.3, distribution='ggx')")
 def g1(
     w: ArrayLike,
     n: ArrayLike,
@@ -124,31 +133,32 @@ def g1(
     tangent: ArrayLike | None = None,
 ) -> F32:
     """Smith masking of one direction, ``G1(w) = 1/(1 + Λ(w))`` in [0, 1]; 0 below the surface."""
-    (wa, na), _ = as_vec3_args(w=w, n=n)
-    assert wa is not None and na is not None
-    return _brdfpy.smith_lambda(_lobe(distribution, alpha, alpha_y), wa, na, _tangent(tangent), True)
+    d = _lobe(distribution, alpha, alpha_y)
+    return _brdfpy.smith_lambda(d, as_vectors("w", w), as_vectors("n", n), _tangent(tangent), True)
 
 
+@name_is_keyword("masking", "masking(l, v, n, 0.3, masking='smith', distribution='ggx')")
 def masking(
-    name: str,
     l: ArrayLike,
     v: ArrayLike,
     n: ArrayLike,
     alpha: float,
     *,
+    masking: str = "smith",
     distribution: str = "ggx",
     alpha_y: float | None = None,
     tangent: ArrayLike | None = None,
 ) -> F32:
     """Shadowing-masking ``G(l, v)`` (dimensionless); 0 when ``l`` or ``v`` is below the surface.
 
-    ``smith``: ``1/(1 + Λ(l) + Λ(v))`` (height-correlated, Heitz 2014); ``smith_separable``: ``G1(l) G1(v)``
-    (Walter et al. 2007); ``v_groove``: ``min(1, 2(n·h)(n·v)/(v·h), 2(n·h)(n·l)/(v·h))`` (Torrance-Sparrow,
-    Cook-Torrance); ``kelemen``: ``(n·l)(n·v)/(v·h)²`` (Kelemen & Szirmay-Kalos 2001); ``none``: 1.
-    ``distribution``, ``alpha`` (and ``alpha_y``, ``tangent``) give Λ for the Smith terms.
+    ``masking`` is one of :data:`MASKINGS`: ``smith`` (default): ``1/(1 + Λ(l) + Λ(v))`` (height-correlated,
+    Heitz 2014); ``smith_separable``: ``G1(l) G1(v)`` (Walter et al. 2007); ``v_groove``:
+    ``min(1, 2(n·h)(n·v)/(v·h), 2(n·h)(n·l)/(v·h))`` (Torrance-Sparrow, Cook-Torrance); ``kelemen``:
+    ``(n·l)(n·v)/(v·h)²`` (Kelemen & Szirmay-Kalos 2001); ``none``: 1. ``distribution``, ``alpha`` (and
+    ``alpha_y``, ``tangent``) give Λ for the Smith terms.
     """
-    if not isinstance(name, str):
-        raise TypeError(f"name: expected a masking name (str), got {type(name).__name__}")
-    (la, va, na), _ = as_vec3_args(l=l, v=v, n=n)
-    assert la is not None and va is not None and na is not None
-    return _brdfpy.masking(name, _lobe(distribution, alpha, alpha_y), la, va, na, _tangent(tangent))
+    if not isinstance(masking, str):
+        raise TypeError(f"masking: expected a masking name (str), got {type(masking).__name__}")
+    d = _lobe(distribution, alpha, alpha_y)
+    la, va, na = as_vectors("l", l), as_vectors("v", v), as_vectors("n", n)
+    return _brdfpy.masking(masking, d, la, va, na, _tangent(tangent))

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_vec3_args
+from brdfpy._arrays import as_vectors
 
 __all__ = ["Model", "ModelInfo", "ParamInfo", "ParamValue", "model", "model_info", "models"]
 
@@ -69,6 +69,8 @@ def model_info(name: str) -> ModelInfo:
     ValueError
         If no model has that name (the message lists the known names).
     """
+    if not isinstance(name, str):
+        raise TypeError(f"name: expected a model name (str), got {type(name).__name__}")
     info: ModelInfo = _brdfpy.model_spec(name)  # type: ignore[assignment]
     return info
 
@@ -87,15 +89,31 @@ class Model(_brdfpy.Model):
     params : dict
         Every parameter's value, defaults filled in.
     physical : bool
-        ``True`` for BRDFs in 1/sr; ``False`` for the course formulas of seeds 000 and 004.
+        ``True`` for BRDFs in 1/sr; ``False`` for the classic shading formulas (Lambert, Phong, Blinn-Phong as
+        in textbooks, toon, Strauss), which are not BRDFs.
     anisotropic : bool
         ``True`` when the model reads ``tangent``.
     """
 
     __slots__ = ()
 
+    def __new__(cls, name: str, /, **params: Any) -> Model:
+        if not isinstance(name, str):
+            raise TypeError(f"name: expected a model name (str), got {type(name).__name__}")
+        return super().__new__(cls, name, **params)  # type: ignore[return-value]  # an instance of cls
+
+    def __init__(self, name: str, /, **params: Any) -> None:
+        # Built by __new__ (the compiled base); defined so that object.__init__ is not handed the arguments.
+        pass
+
     def eval(
-        self, l: ArrayLike, v: ArrayLike, n: ArrayLike, tangent: ArrayLike | None = None
+        self,
+        l: ArrayLike,
+        v: ArrayLike,
+        n: ArrayLike,
+        tangent: ArrayLike | None = None,
+        *,
+        out: NDArray[np.float32] | None = None,
     ) -> NDArray[np.float32]:
         """The BRDF value ``f_r(l, v)`` per RGB channel [1/sr], without the cosine.
 
@@ -104,45 +122,138 @@ class Model(_brdfpy.Model):
 
         Parameters
         ----------
-        l, v, n : array_like, shape (N, 3) or (3,)
+        l, v, n : array_like, shape (..., 3)
             Directions toward the light and the viewer, and the surface normal. Float32 or float64, any
-            memory layout; a ``(3,)`` or ``(1, 3)`` input is broadcast against the others.
-        tangent : array_like, shape (N, 3) or (3,), optional
+            memory layout (float32 C-contiguous input is used without a copy). The leading dimensions
+            broadcast NumPy-style: a ``(90, 360, 3)`` grid of ``l`` with one ``(3,)`` ``v`` and ``n``
+            gives ``(90, 360, 3)``.
+        tangent : array_like, shape (..., 3), optional
             First tangent direction for anisotropic models (projected onto the surface). Without it an
-            arbitrary frame around ``n`` is used.
+            arbitrary frame is used around ``n``.
+        out : numpy.ndarray of float32, optional
+            Where to write the result instead of a new array (e.g. one buffer reused across calls, or a
+            slice of a larger C-contiguous array): float32, C-contiguous, writeable, of exactly the shape
+            of the result, and not sharing memory with an input. Every element is written; ``out`` is
+            returned.
 
         Returns
         -------
-        numpy.ndarray of float32, shape (N, 3), or (3,) when every input was (3,)
+        numpy.ndarray of float32, shape (broadcast shape of the inputs' leading dimensions) + (3,)
+            ``(3,)`` when every input is a single ``(3,)`` vector (``out`` itself when given).
 
         Raises
         ------
         ValueError
-            Wrong shapes, shapes that do not broadcast, empty, ragged or non-finite input (the message
-            names the argument).
+            A last axis that is not 3, shapes that do not broadcast, empty input, ragged or non-finite
+            input (the message names the argument, and the index of a non-finite value); an ``out`` of
+            the wrong shape, not C-contiguous, read-only or overlapping an input.
         TypeError
-            Non-numeric input (strings, objects, complex or bool arrays).
+            Non-numeric input (strings, objects, complex or bool arrays); an ``out`` that is not a
+            float32 NumPy array.
         """
-        return self._batch(l, v, n, tangent, shade=False)
+        # Conversion (brdfpy._arrays.as_vectors) happens in the compiled module, and only when an input is
+        # not float32 C-contiguous already: no Python-level work on the common path (small calls).
+        return self._eval(l, v, n, tangent, False, out)
 
     def shade(
-        self, l: ArrayLike, v: ArrayLike, n: ArrayLike, tangent: ArrayLike | None = None
+        self,
+        l: ArrayLike,
+        v: ArrayLike,
+        n: ArrayLike,
+        tangent: ArrayLike | None = None,
+        *,
+        out: NDArray[np.float32] | None = None,
     ) -> NDArray[np.float32]:
         """What a renderer multiplies by the light's color: the reflected radiance per unit irradiance.
 
         ``f_r(l, v) · max(n·l, 0)`` [1/sr] for physical models; the course formula exactly as written for
         classic models (e.g. ``kd·max(n·l, 0) + ks·max(n·h, 0)^s`` for ``blinn_phong_classic``).
-        Arguments, shapes and errors as for :meth:`eval`.
+        Arguments (``out`` too), shapes and errors as for :meth:`eval`.
         """
-        return self._batch(l, v, n, tangent, shade=True)
+        return self._eval(l, v, n, tangent, True, out)
 
-    def _batch(
-        self, l: ArrayLike, v: ArrayLike, n: ArrayLike, tangent: ArrayLike | None, shade: bool
+    def sample(
+        self,
+        v: ArrayLike,
+        n: ArrayLike,
+        u: ArrayLike | None = None,
+        *,
+        seed: int = 0,
+        tangent: ArrayLike | None = None,
+        count: int | None = None,
+    ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+        """Importance-sample light directions for views ``v``: ``(l, weight, pdf)``.
+
+        ``l`` is drawn with density ``pdf`` [1/sr] over solid angle, roughly in proportion to
+        ``f_r(l, v) cos θ_l`` (each model's technique is listed in the README, "Sampling"), and
+        ``weight = shade(l, v, n) / pdf`` — ``f_r cos θ_l / pdf`` for physical models — exactly as
+        :meth:`shade` and :meth:`pdf` compute them from the returned ``l``. The mean of ``weight · L(l)``
+        estimates the reflected radiance ``∫ f_r cos θ_l L(l) dω_l``.
+
+        Parameters
+        ----------
+        v, n : array_like, shape (..., 3)
+            View directions and normals (need not be unit length); the leading shapes broadcast as for
+            :meth:`eval`.
+        u : array_like, shape (..., 3), optional
+            Uniform numbers in ``[0, 1)``: ``u[..., 0]`` picks the lobe of a sum, ``u[..., 1:]`` the
+            direction. Without it, output element ``i`` (in C order) uses
+            :func:`brdfpy.sampling.uniform` ``(·, seed)[i]``, so results depend only on ``seed`` and the
+            element, never on the thread count.
+        seed : int
+            Seed of the numbers used when ``u`` is not given (an integer in ``[0, 2**64)``).
+        tangent : array_like, shape (..., 3), optional
+            First tangent for anisotropic models, as for :meth:`eval`.
+        count : int, optional
+            Broadcast the inputs against shape ``(count,)``: e.g. ``count`` samples of one view.
+
+        Returns
+        -------
+        l : numpy.ndarray of float32, shape S + (3,)
+            Unit directions toward the light (world space); ``S`` is the broadcast leading shape.
+        weight : numpy.ndarray of float32, shape S + (3,)
+            ``shade/pdf`` per RGB channel.
+        pdf : numpy.ndarray of float32, shape S
+            Solid-angle density of ``l``.
+
+        A sample can fail: where ``v`` is not above the surface (``n·v <= 0``) ``l`` is 0, and where the
+        drawn direction is not above it (a glossy lobe near grazing) ``l`` is that direction; both have
+        ``pdf = 0`` and ``weight = 0`` (never NaN). Count them with weight 0 in an estimate.
+
+        Raises
+        ------
+        ValueError
+            Shapes that do not broadcast, non-finite directions, ``u`` outside ``[0, 1)`` (the message names
+            the argument and the index), a bad ``seed`` or ``count``.
+
+        Examples
+        --------
+        >>> m = brdfpy.model("lambert", kd=0.5)
+        >>> l, w, p = m.sample([0, 0, 1], [0, 0, 1], seed=1, count=4)
+        >>> w[:, 0]  # Lambert is sampled exactly: f cos / pdf = kd
+        array([0.5, 0.5, 0.5, 0.5], dtype=float32)
+        """
+        from brdfpy.sampling import count_arg, seed_arg
+
+        t = None if tangent is None else as_vectors("tangent", tangent)
+        uu = None if u is None else as_vectors("u", u)
+        k = None if count is None else count_arg("count", count)
+        return _brdfpy.model_sample(self, as_vectors("v", v), as_vectors("n", n), uu, seed_arg(seed), t, k)
+
+    def pdf(
+        self, l: ArrayLike, v: ArrayLike, n: ArrayLike, tangent: ArrayLike | None = None
     ) -> NDArray[np.float32]:
-        (la, va, na, ta), single = as_vec3_args(("tangent",), l=l, v=v, n=n, tangent=tangent)
-        assert la is not None and va is not None and na is not None
-        out = self._eval(la, va, na, ta, shade)
-        return out.reshape(3) if single else out
+        """The solid-angle density [1/sr] with which :meth:`sample` draws ``l`` for view ``v``.
+
+        0 where ``l`` or ``v`` is not above the surface (``n·l <= 0`` or ``n·v <= 0``) or degenerate.
+        Arguments and errors as for :meth:`eval`.
+
+        Returns
+        -------
+        numpy.ndarray of float32, the broadcast leading shape of the inputs
+        """
+        t = None if tangent is None else as_vectors("tangent", tangent)
+        return _brdfpy.model_pdf(self, as_vectors("l", l), as_vectors("v", v), as_vectors("n", n), t)
 
     def __reduce__(self) -> tuple[Any, ...]:
         # Pickle by name and resolved parameters (e.g. for multiprocessing); a measured model by its table.
@@ -183,8 +294,8 @@ def model(name: str, /, **params: ParamValue) -> Model:
 
     Examples
     --------
-    >>> m = brdfpy.model("lambert", albedo=(0.8, 0.5, 0.2))
-    >>> m.eval([0, 0, 1], [0, 0.6, 0.8], [0, 0, 1])  # albedo / pi
+    >>> m = brdfpy.model("lambert", kd=(0.8, 0.5, 0.2))
+    >>> m.eval([0, 0, 1], [0, 0.6, 0.8], [0, 0, 1])  # kd / pi
     array([0.25464791, 0.15915494, 0.06366198], dtype=float32)
     """
     return Model(name, **params)

@@ -1,7 +1,7 @@
 """Ray queries against meshes: :class:`RayCaster`, a bounding volume hierarchy over triangles (binned-SAH
 build, 4-wide tree, the watertight ray/triangle test of Woop, Benthin & Wald 2013) with batched closest-hit
 and any-hit queries, and ambient obscurance at arbitrary points — the ray caster behind ``Scene.render``'s
-``ao`` and ``shadows`` (``brdf-raster``'s ``bvh.rs`` and ``ao.rs``).
+``ao`` and ``shadows`` (``brdf-raster``'s ``bvh`` and ``ao`` modules).
 
 Every query runs with the GIL released on brdfpy's thread pool (:func:`brdfpy.set_num_threads`); each ray and
 each point is answered on its own, so results are bit-identical whatever the number of threads.

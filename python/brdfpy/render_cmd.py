@@ -16,15 +16,15 @@ from typing import Any
 from brdfpy import tonemap as _tonemap
 from brdfpy.camera import Camera
 from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
-from brdfpy.mesh import BUILTIN_MESHES, builtin_mesh, icosphere, load_mesh, plane, torus
+from brdfpy.mesh import BUILTIN_MESHES, Mesh, builtin_mesh, icosphere, load_mesh, plane, torus
 from brdfpy.models import model, models
 from brdfpy.scene import SHADING_MODES, ProgressBar, Scene
-from brdfpy.transforms import rotate, scale, translate
+from brdfpy.transforms import UP_AXES, rotate, scale, translate, up_to_y
 
-__all__ = ["NEGATIVE_VALUE_FLAGS", "add_parser", "build_scene", "canonical_scene", "run"]
+__all__ = ["LIGHT_SYNTAX", "NEGATIVE_VALUE_FLAGS", "add_parser", "build_scene", "canonical_scene", "run"]
 
 #: Flags whose values may start with a minus sign (the CLI glues them to the flag for argparse).
-NEGATIVE_VALUE_FLAGS = ("--light", "--eye", "--target", "--exposure")
+NEGATIVE_VALUE_FLAGS = ("--light", "--eye", "--target", "--exposure", "--up", "--rotate")
 
 SCENES = ("builtin", "canonical")
 
@@ -41,19 +41,33 @@ def _floats(text: str, what: str, n: int) -> tuple[float, ...]:
     return vals
 
 
-def parse_light(text: str) -> Light:
-    """A ``--light`` value: ``dir:X,Y,Z[:R,G,B]`` (directional, travelling along X,Y,Z),
-    ``point:X,Y,Z[:R,G,B]`` (intensity, inverse-square), ``spot:X,Y,Z:DX,DY,DZ[:R,G,B[:INNER,OUTER]]``."""
+#: The ``--light`` syntax of ``brdfpy render`` (``brdfpy gallery`` takes its ``dir:`` and ``from:`` kinds).
+LIGHT_SYNTAX = (
+    "dir:DX,DY,DZ[:R,G,B] (a directional light travelling along DX,DY,DZ), from:X,Y,Z[:R,G,B] (the same "
+    "light given by the direction toward it), point:X,Y,Z[:R,G,B] (a point light at X,Y,Z), "
+    "spot:X,Y,Z:DX,DY,DZ[:R,G,B[:INNER,OUTER]] (a spot at X,Y,Z shining along DX,DY,DZ, half-angles in "
+    "degrees). R,G,B is what the light emits, colour × intensity: the irradiance of a directional light "
+    "(default 1), the radiant intensity of a point or spot light (default 10)"
+)
+
+
+def parse_light(text: str, kinds: tuple[str, ...] = ("dir", "from", "point", "spot")) -> Light:
+    """A ``--light`` value (see :data:`LIGHT_SYNTAX`); every direction is the direction the light
+    travels, except ``from:``, which names the direction toward the light. ``kinds`` restricts the
+    accepted kinds."""
     parts = text.split(":")
-    kind = parts[0].strip().lower()
+    kind = {"directional": "dir", "toward": "from"}.get(parts[0].strip().lower(), parts[0].strip().lower())
     try:
-        if kind in ("dir", "directional") and len(parts) in (2, 3):
+        if kind in kinds and kind in ("dir", "from") and len(parts) in (2, 3):
             color = _floats(parts[2], "--light color", 3) if len(parts) == 3 else (1.0, 1.0, 1.0)
-            return DirectionalLight(_floats(parts[1], "--light direction", 3), color)
-        if kind == "point" and len(parts) in (2, 3):
+            d = _floats(parts[1], "--light direction", 3)
+            if kind == "from":
+                d = (-d[0] + 0.0, -d[1] + 0.0, -d[2] + 0.0)  # + 0.0: no -0 in messages
+            return DirectionalLight(d, color)
+        if kind in kinds and kind == "point" and len(parts) in (2, 3):
             inten = _floats(parts[2], "--light intensity", 3) if len(parts) == 3 else (10.0, 10.0, 10.0)
             return PointLight(_floats(parts[1], "--light position", 3), inten)
-        if kind == "spot" and len(parts) in (3, 4, 5):
+        if kind in kinds and kind == "spot" and len(parts) in (3, 4, 5):
             inten = _floats(parts[3], "--light intensity", 3) if len(parts) >= 4 else (10.0, 10.0, 10.0)
             inner, outer = _floats(parts[4], "--light angles", 2) if len(parts) == 5 else (20.0, 30.0)
             return SpotLight(
@@ -65,10 +79,47 @@ def parse_light(text: str) -> Light:
             )
     except ValueError as e:
         raise ValueError(f"--light {text!r}: {e}") from None
-    raise ValueError(
-        f"--light: expected dir:X,Y,Z[:R,G,B], point:X,Y,Z[:R,G,B] or spot:X,Y,Z:DX,DY,DZ[:R,G,B[:IN,OUT]], "
-        f"got {text!r}"
-    )
+    forms = {
+        "dir": "dir:DX,DY,DZ[:R,G,B] (direction of travel)",
+        "from": "from:X,Y,Z[:R,G,B] (direction toward the light)",
+        "point": "point:X,Y,Z[:R,G,B]",
+        "spot": "spot:X,Y,Z:DX,DY,DZ[:R,G,B[:IN,OUT]]",
+    }
+    expected = ", ".join(forms[k] for k in kinds)
+    hint = ""
+    if len(parts) == 1 and len(parts[0].split(",")) == 3:
+        # A bare direction is ambiguous (toward the light, or the way it travels?): make the user say which.
+        hint = f"; a bare direction is ambiguous: write dir:{text} or from:{text}"
+    raise ValueError(f"--light: expected {expected}, got {text!r}{hint}")
+
+
+def parse_rotation(text: str) -> Any:
+    """A ``--rotate`` value: ``DEG`` (about the vertical axis, +y, after ``--up``), or ``AXIS:DEG`` with
+    ``AXIS`` one of x, y, z or three comma-separated numbers; degrees counter-clockwise (right-hand rule)."""
+    axis_text, sep, deg_text = text.rpartition(":")
+    axes = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
+    try:
+        degrees = float(deg_text)
+    except ValueError:
+        degrees = math.nan
+    if not math.isfinite(degrees):
+        raise ValueError(f"--rotate: expected DEG or AXIS:DEG (e.g. 180 or x:-90), got {text!r}")
+    if not sep:
+        return rotate(axes["y"], degrees)
+    key = axis_text.strip().lower()
+    axis = axes[key] if key in axes else _floats(axis_text, "--rotate axis", 3)
+    if not any(axis):
+        raise ValueError(f"--rotate: the axis must not be zero, got {text!r}")
+    return rotate(axis, degrees)
+
+
+def stand_transform(up: str = "y", rotations: list[str] | None = None) -> Any:
+    """The rotation ``--up`` and ``--rotate`` ask for: :func:`brdfpy.transforms.up_to_y` of ``up``, then
+    each rotation in order (see :func:`parse_rotation`)."""
+    m = up_to_y(up)
+    for text in rotations or []:
+        m = parse_rotation(text) @ m
+    return m
 
 
 def parse_value(text: str) -> Any:
@@ -110,35 +161,39 @@ def _default_lights() -> list[Light]:
 def _floor(scene: Scene, y: float, size: float) -> None:
     scene.add(
         plane(size, 48),
-        model("lambert", albedo=(0.30, 0.30, 0.32)),
+        model("lambert", kd=(0.30, 0.30, 0.32)),
         translate(0.0, y, 0.0),
-        ambient=(0.30, 0.30, 0.32),
     )
 
 
 def build_scene(args: argparse.Namespace) -> tuple[Scene, Camera]:
     """The scene and camera the options ask for (built-in, canonical, or ``--mesh``)."""
     aspect = args.width / args.height
+    if args.param and args.model is None and args.mesh is None:
+        raise ValueError(
+            f"--param: the {args.scene} scene has several materials; name the --model that the parameters "
+            "belong to (it replaces every material), e.g. --model cook_torrance --param roughness=0.1"
+        )
     if args.scene == "canonical":
         scene, cam = canonical_scene(args.level, args.model and model(args.model, **parse_params(args.param)))
         return scene, cam
     scene = Scene(ambient_light=(0.10, 0.11, 0.13), background=(0.015, 0.017, 0.022))
     if args.mesh is not None:
-        mesh = builtin_mesh(args.mesh[8:]) if args.mesh.startswith("builtin:") else load_mesh(args.mesh)
+        # orient="keep": the --flip rule below decides (and says nothing to a CLI user).
+        mesh = _load_mesh_option(args.mesh)
         if args.flip or (args.flip is None and mesh.stats()["signed_volume"] < 0):
             mesh.flip_winding()  # wound inward: back-face culling would show its inside
         if args.smooth is not None:
             mesh.compute_normals(args.smooth)
-        center, radius = mesh.bounding_sphere()
-        xf = scale(1.0 / radius) @ translate(-center)
+        stand = stand_transform(args.up, args.rotate)
+        center, radius = mesh.transformed(stand).bounding_sphere()
+        xf = scale(1.0 / radius) @ translate(-center) @ stand
         lo = (mesh.transformed(xf).bounds()[0])[1]
         xf = translate(0.0, -lo, 0.0) @ xf  # rest on the floor at y = 0
-        name = args.model or "cook_torrance"
-        params = parse_params(args.param)
-        if args.model is None and not params:
-            params = {"kd": (0.5, 0.12, 0.08), "ks": 1.0, "roughness": 0.35}
-        mat = model(name, **params)
-        scene.add(mesh, mat, xf, ambient=_ambient_of(mat))
+        # The model's own defaults (cook_torrance's are a red plastic), each --param changing one of them:
+        # no defaults of the command's own that a --param or naming the model would silently drop.
+        mat = model(args.model or "cook_torrance", **parse_params(args.param))
+        scene.add(mesh, mat, xf)  # ambient: the material's white-sky albedo
         if not args.no_floor:
             _floor(scene, 0.0, 12.0)
         # The mesh now fills the unit sphere centred at (0, -lo, 0), its lowest point at y = 0.
@@ -147,28 +202,25 @@ def build_scene(args: argparse.Namespace) -> tuple[Scene, Camera]:
         )
     else:
         gold = model("cook_torrance", metal="au", fresnel="conductor", roughness=0.28)
-        scene.add(icosphere(5), gold, translate(-1.55, 0.62, 0.15) @ scale(0.62), ambient=(0.35, 0.25, 0.08))
+        scene.add(icosphere(5), gold, translate(-1.55, 0.62, 0.15) @ scale(0.62))
         red = model("blinn_phong", kd=(0.55, 0.05, 0.04), ks=0.35, shininess=90)
         scene.add(
             torus(96, 48),
             red,
             translate(1.55, 0.72, 0.1) @ rotate((0, 1, 0), -35) @ rotate((1, 0, 0), -20) @ scale(0.72),
-            ambient=(0.55, 0.05, 0.04),
         )
-        clay = model("oren_nayar", albedo=(0.60, 0.47, 0.34), sigma=0.35)
+        clay = model("oren_nayar", kd=(0.60, 0.47, 0.34), sigma=0.35)
         cow = builtin_mesh("cow")
         lo = cow.bounds()[0][1]
         scene.add(
             cow,
             clay,
             translate(0.0, -lo * 1.9, -0.5) @ rotate((0, 1, 0), 35) @ scale(1.9),
-            ambient=(0.60, 0.47, 0.34),
         )
         if args.model is not None:
             mat = model(args.model, **parse_params(args.param))
             for inst in scene.instances:
-                inst.material = mat
-                inst.ambient = _ambient_of(mat)
+                inst.material = mat  # its ambient follows: the white-sky albedo of the new material
         if not args.no_floor:
             _floor(scene, 0.0, 30.0)
         cam = Camera.perspective((0.0, 1.55, 4.6), (0.0, 0.5, 0.0), fovy=args.fovy)
@@ -185,19 +237,23 @@ def build_scene(args: argparse.Namespace) -> tuple[Scene, Camera]:
     return scene, cam
 
 
-def _ambient_of(mat: Any) -> tuple[float, float, float]:
-    """A material's ambient reflectance for the demo scenes: its diffuse color where it names one."""
-    p = mat.params
-    for key in ("albedo", "kd", "rho_d", "rd", "color", "diffuse_color"):
-        if key in p and isinstance(p[key], (tuple, list)) and len(p[key]) == 3:
-            c = tuple(float(x) for x in p[key])
-            if max(c) > 0:
-                return (c[0], c[1], c[2])
-    return (0.3, 0.3, 0.3)
+def _load_mesh_option(text: str) -> Mesh:
+    """The mesh of ``--mesh PATH`` or ``--mesh builtin:NAME``; errors name ``--mesh`` (not the library's
+    internal argument names ``path`` / ``name``) and what was given."""
+    try:
+        return builtin_mesh(text[8:]) if text.startswith("builtin:") else load_mesh(text, orient="keep")
+    except (OSError, ValueError) as e:
+        msg = str(e)
+        for internal in ("path: ", "name: "):
+            if msg.startswith(internal):
+                msg = msg[len(internal) :]
+        if isinstance(e, FileNotFoundError):
+            msg = f"no such file: {text!r}"
+        raise type(e)(f"--mesh: {msg}") from None
 
 
 def canonical_scene(level: int = 5, material: Any = None) -> tuple[Scene, Camera]:
-    """The canonical benchmark scene of ``SCENE.md``: ``icosphere(level)`` with the classic Blinn-Phong
+    """The canonical benchmark scene: ``icosphere(level)`` with the classic Blinn-Phong
     material (kd (0.8, 0.3, 0.2), ks 0.5, shininess 32, ambient 0.05·kd under white ambient light), a
     directional light travelling along (−1, −1, −1) and a point light of intensity 10 at (2, 2, 2) with
     inverse-square falloff, black background; camera at (0, 0, 3) looking at the origin, fovy 45°."""
@@ -218,6 +274,9 @@ def _size(text: str) -> tuple[int, int]:
         w, h = (int(p) for p in text.lower().replace("×", "x").split("x"))
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT, e.g. 1280x720, got {text!r}") from None
+    if w < 1 or h < 1:
+        # Checked here, before the camera's aspect ratio width / height is formed.
+        raise argparse.ArgumentTypeError(f"width and height must be at least 1 pixel each, got {text!r}")
     return w, h
 
 
@@ -232,7 +291,16 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
             "a built-in scene (a gold Cook-Torrance sphere, a red Blinn-Phong torus and Garland's cow in "
             "Oren-Nayar clay on a floor, three colored lights, shadows). With --mesh PATH: your OBJ or PLY "
             "file, scaled to a unit sphere, standing on the floor, in the chosen --model. --scene canonical "
-            "renders the canonical benchmark scene (SCENE.md) and prints its check values.",
+            "renders the canonical benchmark scene and prints its check values.",
+            width=78,
+        )
+        + "\n\n"
+        + textwrap.fill(
+            "Defaults: the command makes a presentation image (1280x720, 4 samples per pixel, shadows, ACES "
+            "tone map; --scene canonical: 1920x1080, 1 sample, no shadows, clamp). Scene.render() in Python "
+            "makes a reference render unless told otherwise (800x600, 1 sample, no shadows, clamp); "
+            "scene.render(camera, 1280, 720, samples=4, shadows=True, tonemap='aces') gives this command's "
+            "look.",
             width=78,
         ),
         epilog="Examples:\n"
@@ -240,8 +308,10 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
         "  brdfpy render --mesh bunny.ply --model cook_torrance --param roughness=0.2 --param metal=cu\n"
         "  brdfpy render --mesh builtin:fandisk --model blinn_phong_classic --shading gouraud\n"
         "  brdfpy render --light dir:-1,-1,-1:1,1,1 --light point:2,2,2:10,10,10 --size 1920x1080\n"
+        "  brdfpy render --light from:1,1,1:2,2,2         # the light that travels along -1,-1,-1\n"
         "  brdfpy render --ao --no-shadows -o ao.png\n"
-        "  brdfpy render --scene canonical --level 7 --samples 1 -o sphere.png\n\n"
+        "  brdfpy render --scene canonical --level 7 --samples 1 -o sphere.png\n"
+        "  brdfpy render --mesh teapot.ply --up z --rotate 30\n\n"
         + textwrap.fill(
             f"Models: {', '.join(models())}. Built-in meshes: {', '.join(BUILTIN_MESHES)}.", width=78
         ),
@@ -267,25 +337,30 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
         "--model",
         default=None,
         metavar="NAME",
-        help="reflectance model of the mesh (with --mesh; default cook_torrance) or of every object",
+        help="reflectance model of the mesh (with --mesh; default cook_torrance) or of every object, "
+        "with the model's defaults (brdfpy.model_info(NAME))",
     )
     r.add_argument(
         "--param",
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="a parameter of --model, e.g. roughness=0.2 or kd=0.8,0.3,0.2; repeatable",
+        help="change one parameter of --model from its default, e.g. roughness=0.2 or kd=0.8,0.3,0.2 "
+        "(with --mesh and no --model: of cook_torrance, a red plastic); repeatable",
     )
     r.add_argument(
-        "--shading", choices=SHADING_MODES, default="phong", help="shading algorithm (default phong)"
+        "--shading",
+        choices=SHADING_MODES,
+        default="phong",
+        help="where the reflectance model is evaluated: per face (flat), per vertex (gouraud) or per pixel "
+        "(phong, quadratic; default phong); shadows are per pixel in every mode",
     )
     r.add_argument(
         "--light",
         action="append",
         default=None,
         metavar="SPEC",
-        help="replace the default lights: dir:DX,DY,DZ[:R,G,B] (direction of travel), "
-        "point:X,Y,Z[:R,G,B], spot:X,Y,Z:DX,DY,DZ[:R,G,B[:INNER,OUTER degrees]]; repeatable",
+        help=f"replace the default lights; repeatable. {LIGHT_SYNTAX}",
     )
     r.add_argument("--size", type=_size, default=None, metavar="WxH", help="image size (default 1280x720)")
     r.add_argument(
@@ -318,6 +393,21 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
         "--eye", default=None, metavar="X,Y,Z", help="camera position (default: framed automatically)"
     )
     r.add_argument("--target", default=None, metavar="X,Y,Z", help="point the camera looks at")
+    r.add_argument(
+        "--up",
+        choices=UP_AXES,
+        default="y",
+        type=lambda t: t.strip().lower().lstrip("+"),
+        help="the mesh file's up axis, turned to +y (z for CAD/3D-printing/Blender files; default y)",
+    )
+    r.add_argument(
+        "--rotate",
+        action="append",
+        default=[],
+        metavar="[AXIS:]DEG",
+        help="turn the mesh after --up: DEG about the vertical axis (180 shows its back), or "
+        "x|y|z|X,Y,Z:DEG; repeatable, applied in order",
+    )
     r.add_argument("--no-floor", action="store_true", help="leave out the floor")
     r.add_argument(
         "--flip",
@@ -382,7 +472,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _report_checks(img: Any) -> None:
-    """Print the canonical scene's check values (SCENE.md) next to the render's pixels."""
+    """Print the canonical scene's check values next to the render's pixels."""
     h, w = img.shape
     centre = img.rgb[h // 2, w // 2].tolist()
-    print(f"centre pixel {centre} (SCENE.md: [232, 151, 127]); {img.covered_pixels:,} pixels covered")
+    print(f"centre pixel {centre} (expected: [232, 151, 127]); {img.covered_pixels:,} pixels covered")

@@ -1,11 +1,14 @@
 """:class:`Scene`: meshes with materials and transforms, lights, ambient light and background, rendered on the
 CPU by the tiled, multithreaded rasterizer of ``brdf-raster``.
 
-Every surface follows the Phong illumination model (seed 004, SPEC row 14)::
+Every surface follows the Phong illumination model (Phong 1975; in the form of Theoharis et al.,
+*Graphics and Visualization*, 2008, ch. 12)::
 
     L = emission + ambient ∘ I_a · w(p) + Σ_j δ_j · E_j ∘ model.shade(l_j, v, n)
 
-where ``ambient`` is the material's ambient reflectance ``k_a``, ``I_a`` the scene's ambient light, ``w(p)``
+where ``ambient`` is the material's ambient reflectance ``k_a`` (by default what the material reflects under a
+uniform white sky, its white-sky albedo, so that ``Scene(ambient_light=...)`` lights every object through its
+own model), ``I_a`` the scene's ambient light, ``w(p)``
 the ambient obscurance (1 unless ``ao`` is on), ``E_j`` and ``l_j`` what light ``j`` delivers at ``p``,
 ``δ_j`` its visibility (1 unless ``shadows`` is on) and ``model.shade`` the material's reflectance model
 (``f_r · max(n·l, 0)`` for physical models, the course formula as written for classic ones).
@@ -15,7 +18,7 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any, Callable, Union
 
 import numpy as np
@@ -23,17 +26,30 @@ from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
 from brdfpy.camera import Camera
+from brdfpy.environment import Environment
 from brdfpy.image import Image
 from brdfpy.lights import Light, color3
 from brdfpy.mesh import Mesh, _mat4
 from brdfpy.models import Model
 
-__all__ = ["SHADING_MODES", "Instance", "ProgressBar", "Scene"]
+__all__ = ["MAX_IMAGE_SIDE", "MAX_PIXELS", "OUTPUTS", "SHADING_MODES", "Instance", "ProgressBar", "Scene"]
 
 #: Tone-mapping operators accepted by :meth:`Scene.render`.
 TONEMAPS = ("clamp", "reinhard", "reinhard_extended", "aces")
 
-#: Shading algorithms of seed 004 accepted by :meth:`Scene.render`.
+#: The largest image :meth:`Scene.render` accepts: ``MAX_IMAGE_SIDE`` pixels wide or tall, and
+#: ``MAX_PIXELS`` pixels in all (``width·height``, whatever the samples per pixel). Read from the renderer,
+#: which is where the limits are defined and checked.
+MAX_IMAGE_SIDE, MAX_PIXELS = _brdfpy.raster_limits()
+
+#: The buffers :meth:`Scene.render` can write (``outputs=``), see :class:`Image`.
+OUTPUTS = ("rgb", "hdr", "depth", "normal", "triangle_id")
+
+#: What :meth:`Scene.render` writes unless told otherwise: the 8-bit image and the depth.
+DEFAULT_OUTPUTS = ("rgb", "depth")
+
+#: Shading algorithms accepted by :meth:`Scene.render` (flat, Gouraud 1971, Phong 1975, van Overveld &
+#: Wyvill 1997).
 SHADING_MODES = ("flat", "gouraud", "phong", "quadratic")
 
 #: Default ambient-occlusion options (``ao=True``); ``d_max`` ``None`` means a quarter of the scene's
@@ -53,7 +69,8 @@ ProgressArg = Union[None, bool, Callable[[float], Any]]
 
 class Instance:
     """One mesh placed in a scene: ``mesh``, ``material`` (a :class:`brdfpy.Model`), ``transform`` (4×4,
-    object → world), ``ambient`` (``k_a``, linear RGB) and ``emission`` (linear RGB). Returned by
+    object → world), ``ambient`` (``k_a``, linear RGB, or ``None`` for the material's white-sky albedo) and
+    ``emission`` (linear RGB). Returned by
     :meth:`Scene.add`; its attributes may be reassigned (they are checked again at render time)."""
 
     __slots__ = ("ambient", "emission", "material", "mesh", "transform")
@@ -88,6 +105,10 @@ class ProgressBar:
         self._tty = bool(getattr(self.stream, "isatty", lambda: False)())
 
     def __call__(self, fraction: float) -> None:
+        if isinstance(fraction, bool) or not isinstance(fraction, (int, float, np.integer, np.floating)):
+            raise TypeError(f"fraction: expected a number in [0, 1], got {type(fraction).__name__}")
+        if not 0.0 <= fraction <= 1.0:
+            raise ValueError(f"fraction: expected a number in [0, 1], got {fraction}")
         step = 0.02 if self._tty else 0.25
         if fraction < 1.0 and fraction - self._last < step:
             return
@@ -105,6 +126,29 @@ class ProgressBar:
         self.stream.flush()
 
 
+def _outputs(outputs: Any) -> list[str]:
+    """The output names of ``Scene.render(outputs=...)``, checked."""
+    if isinstance(outputs, str):
+        names = list(OUTPUTS) if outputs == "all" else [outputs]
+    else:
+        try:
+            names = list(outputs)
+        except TypeError:
+            raise TypeError(
+                f"outputs: expected names from {OUTPUTS} (or 'all'), got {type(outputs).__name__}"
+            ) from None
+    for n in names:
+        if not isinstance(n, str):
+            raise TypeError(f"outputs: expected names from {OUTPUTS}, got an item of type {type(n).__name__}")
+        if n not in OUTPUTS:
+            raise ValueError(
+                f"outputs: unknown output {n!r}; expected some of {', '.join(OUTPUTS)} (or 'all')"
+            )
+    if not names:
+        raise ValueError(f"outputs: asks for nothing; name at least one of {', '.join(OUTPUTS)}")
+    return names
+
+
 def _int(name: str, x: Any) -> int:
     if isinstance(x, bool) or not isinstance(x, (int, np.integer)):
         raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
@@ -117,11 +161,21 @@ class Scene:
 
     Parameters
     ----------
-    ambient_light : number or three numbers
-        ``I_a``, the ambient light (linear RGB) that each material's ``ambient`` reflectance multiplies.
-        1 (white) by default, so that ``ambient`` is directly the ambient color a surface shows.
+    ambient_light : number, three numbers or None
+        ``I_a``, the radiance (linear RGB) of a uniform sky lighting every object: an object reflects
+        ``ambient ∘ I_a`` (times the obscurance ``w(p)`` when rendering with ``ao``), where ``ambient`` is
+        its own ``ambient=`` if :meth:`add` was given one, else its material's *white-sky albedo* — the
+        cosine-weighted mean over view directions of what the model reflects under a uniform white sky
+        (the bihemispherical reflectance of Nicodemus et al. 1977), computed by quadrature from the model
+        itself: ``kd`` for Lambert, the copper colour (less the microfacet model's single-scattering loss)
+        for a copper conductor. ``None`` (default): no ambient light; an object given ``ambient=`` then
+        shows exactly that colour (``I_a = 1``), the others none.
     background : number or three numbers
         Linear RGB radiance where no surface is drawn. Black by default.
+    environment : Environment, optional
+        Light arriving from every direction (:class:`brdfpy.Environment`), lighting every object in the
+        mode ``Scene.render(env_mode=...)`` asks for, and shown where no surface is drawn (in place of
+        ``background``).
 
     Examples
     --------
@@ -134,20 +188,34 @@ class Scene:
     >>> img.save("sphere.png")
     """
 
-    def __init__(self, *, ambient_light: Any = 1.0, background: Any = 0.0) -> None:
+    def __init__(
+        self, *, ambient_light: Any = None, background: Any = 0.0, environment: Environment | None = None
+    ) -> None:
         self.instances: list[Instance] = []
         self.lights: list[Light] = []
         self.ambient_light = ambient_light
         self.background = background
+        self.environment = environment
 
     @property
-    def ambient_light(self) -> tuple[float, float, float]:
-        """``I_a`` (linear RGB)."""
+    def environment(self) -> Environment | None:
+        """The environment lighting the scene (and shown as its background), or ``None``."""
+        return self._environment
+
+    @environment.setter
+    def environment(self, value: Environment | None) -> None:
+        if value is not None and not isinstance(value, Environment):
+            raise TypeError(f"environment: expected a brdfpy.Environment or None, got {type(value).__name__}")
+        self._environment = value
+
+    @property
+    def ambient_light(self) -> tuple[float, float, float] | None:
+        """``I_a`` (linear RGB), or ``None`` for no ambient light (see :class:`Scene`)."""
         return self._ambient_light
 
     @ambient_light.setter
     def ambient_light(self, value: Any) -> None:
-        self._ambient_light = color3("ambient_light", value)
+        self._ambient_light = None if value is None else color3("ambient_light", value)
 
     @property
     def background(self) -> tuple[float, float, float]:
@@ -164,7 +232,7 @@ class Scene:
         material: Model | str | None = None,
         transform: ArrayLike | None = None,
         *,
-        ambient: Any = 0.0,
+        ambient: Any = None,
         emission: Any = 0.0,
     ) -> Instance:
         """Add a mesh with a material; returns its :class:`Instance`.
@@ -179,8 +247,10 @@ class Scene:
             Object → world matrix (column vectors, ``p_world = M @ p``), e.g. from :mod:`brdfpy.transforms`.
             Identity by default. Normals follow its inverse transpose; a mirroring matrix keeps the
             counter-clockwise side as the front.
-        ambient : number or three numbers
-            Ambient reflectance ``k_a`` (linear RGB), multiplied by the scene's ``ambient_light``. The
+        ambient : number, three numbers or None
+            Ambient reflectance ``k_a`` (linear RGB), multiplied by the scene's ``ambient_light``
+            (or shown as it is when the scene has none). ``None`` (default): the material's white-sky
+            albedo under the scene's ``ambient_light`` (see :class:`Scene`), nothing without one. The
             canonical benchmark scene uses ``0.05·kd``.
         emission : number or three numbers
             Emitted radiance (linear RGB), added unlit.
@@ -199,7 +269,8 @@ class Scene:
         xf = np.eye(4) if transform is None else np.array(_mat4("transform", transform)).reshape(4, 4)
         if abs(np.linalg.det(xf[:3, :3])) == 0:
             raise ValueError("transform: is singular (its 3×3 part has determinant 0)")
-        inst = Instance(m, material, xf, color3("ambient", ambient), color3("emission", emission))
+        ka = None if ambient is None else color3("ambient", ambient)
+        inst = Instance(m, material, xf, ka, color3("emission", emission))
         self.instances.append(inst)
         return inst
 
@@ -243,22 +314,35 @@ class Scene:
         ao: bool | Mapping[str, Any] | None = None,
         shadows: bool = False,
         progress: ProgressArg = None,
+        outputs: str | Iterable[str] = DEFAULT_OUTPUTS,
+        env_mode: str = "fast",
+        env_samples: int = 64,
+        env_seed: int = 0,
     ) -> Image:
         """Render the scene through ``camera`` into a ``width × height`` :class:`Image`.
 
         The scene is converted under the GIL, then rendered with the GIL released on brdfpy's thread pool
         (:func:`brdfpy.set_num_threads`); the result is bit-identical for any number of threads.
 
+        The defaults make a *reference* render: one sample per pixel, no shadows, ``"clamp"`` (exactly
+        the shading formula, each option a deliberate choice, and the canonical scene's check pixels).
+        The ``brdfpy render`` command makes a *presentation* image instead (``samples=4``,
+        ``shadows=True``, ``tonemap="aces"``, 1280×720); pass those arguments for the command's look.
+
         Parameters
         ----------
         camera : Camera
         width, height : int
-            Image size in pixels, 1–16384 each, and at most 2^28 samples (``width·height·samples``).
+            Image size in pixels: 1 to :data:`MAX_IMAGE_SIDE` (<MAX_IMAGE_SIDE>) each, and at most
+            :data:`MAX_PIXELS` (<MAX_PIXELS>) pixels in all, at any number of ``samples`` (supersamples are
+            drawn and resolved band by band, so memory grows with the pixel count, not the samples).
         shading : str
-            Seed 004's shading algorithms: ``"flat"`` (constant: once per triangle, face normal),
-            ``"gouraud"`` (at the vertices, colors interpolated), ``"phong"`` (normal interpolated and
+            The shading algorithm: ``"flat"`` (constant: once per triangle, face normal), ``"gouraud"``
+            (Gouraud 1971: at the vertices, colors interpolated), ``"phong"`` (normal interpolated and
             renormalised, the model evaluated per pixel) or ``"quadratic"`` (van Overveld & Wyvill's
-            quadratic normal interpolation, per pixel).
+            quadratic normal interpolation, per pixel). The mode says where the *reflectance model* is
+            evaluated; shadows and per-pixel obscurance are always computed per pixel (per sample), so a
+            flat or Gouraud surface gets the same sharp shadow edges as a Phong one.
         cull_back_faces : bool
             Skip triangles seen from behind (clockwise on screen).
         samples : int
@@ -269,20 +353,37 @@ class Scene:
         exposure : float
             Stops applied before tone mapping (``c · 2^exposure``).
         ao : bool or dict, optional
-            Ambient obscurance ``w(p)`` (seed 004 eq. 12.71–12.74) weighting the ambient term. ``True`` for
+            Ambient obscurance ``w(p)`` (Zhukov, Iones & Kronin 1998; Theoharis et al. 2008, eqs.
+            12.71–12.74) weighting the ambient term. ``True`` for
             the defaults, or a dict with any of ``tau`` (2: how quickly an occluder's weight grows with its
             distance), ``d_max`` (range beyond which nothing occludes; default a quarter of the scene's
             bounding-box diagonal), ``samples`` (64 rays per point), ``per_pixel`` (False: estimated at the
             vertices and interpolated; True: at every shaded point), ``seed`` (0) and ``combined`` (False;
-            True adds eq. 12.75's diffuse term ``k_d·I_d(p)·w(p)``) and ``stored`` (False; True: instances
-            whose mesh holds a stored :attr:`Mesh.obscurance` use it, interpolated over the faces, instead
-            of an estimate — self-occlusion baked in object space, not occlusion by the other objects;
-            the other instances are estimated as usual).
+            True adds the diffuse term ``k_d·I_d(p)·w(p)`` of Theoharis et al. 2008 eq. 12.75) and ``stored``
+            (False; True: instances whose mesh holds a stored :attr:`Mesh.obscurance` use it, interpolated
+            over the faces, instead of an estimate — self-occlusion baked in object space, not occlusion by
+            the other objects; the other instances are estimated as usual).
         shadows : bool
             Cast shadow rays toward every light (hard shadows; ``δ_j`` ∈ {0, 1}).
         progress : bool or callable, optional
             ``True`` draws a progress bar on stderr; a callable receives the fraction done (0–1, increasing),
             from a worker thread with the GIL held; an exception it raises is re-raised after the render.
+        outputs : str or iterable of str
+            The buffers to write, any of :data:`OUTPUTS` (``"rgb"``, ``"hdr"``, ``"depth"``, ``"normal"``,
+            ``"triangle_id"``), or ``"all"``. Default ``("rgb", "depth")``: the displayable image and the
+            depth (which also gives :attr:`Image.mask`). Writing fewer buffers is faster (at 1080p the HDR,
+            normal and id buffers are 58 MB a frame); reading a buffer that was not rendered raises
+            ``BrdfError`` naming it. :meth:`Image.tonemapped` needs ``"hdr"``.
+        env_mode : str
+            How the scene's :attr:`environment` lights it (see :mod:`brdfpy.environment`): ``"fast"``
+            (spherical-harmonic irradiance and a prefiltered map, no noise, darkened by ``ao``) or
+            ``"monte_carlo"`` (multiple importance sampling with ray-cast visibility, converging to the
+            reflected radiance of the rendering equation).
+        env_samples : int
+            Monte Carlo iterations per shaded point (each one sample of the material's sampler and one of
+            the environment's), 1 to 2^20; the noise falls as ``1/√env_samples``.
+        env_seed : int
+            Seed of the Monte Carlo mode's random numbers, in [0, 2^64).
 
         Raises
         ------
@@ -307,6 +408,14 @@ class Scene:
         if not self.instances:
             raise ValueError("scene: has no meshes to render (use Scene.add)")
         ao_args = self._ao_args(ao)
+        out_names = _outputs(outputs)
+        if not isinstance(env_mode, str):
+            raise TypeError(f"env_mode: expected 'fast' or 'monte_carlo', got {type(env_mode).__name__}")
+        env_n, seed = _int("env_samples", env_samples), _int("env_seed", env_seed)
+        if not 1 <= env_n <= 2**20:
+            raise ValueError(f"env_samples: must lie in [1, 2^20], got {env_n}")
+        if not 0 <= seed < 2**64:
+            raise ValueError(f"env_seed: must lie in [0, 2^64), got {seed}")
         cb: Callable[[float], Any] | None
         if progress is True:
             cb = ProgressBar()
@@ -321,7 +430,7 @@ class Scene:
                 inst.mesh._m,
                 inst.material,
                 _mat4("transform", inst.transform),
-                color3("ambient", inst.ambient),
+                None if inst.ambient is None else color3("ambient", inst.ambient),
                 color3("emission", inst.emission),
             )
             for inst in self.instances
@@ -344,6 +453,11 @@ class Scene:
             bool(shadows),
             cb,
             self._stored_obscurance(ao),
+            out_names,
+            None if self._environment is None else self._environment._e,
+            env_mode,
+            env_n,
+            seed,
         )
         return Image(frame)
 
@@ -394,3 +508,11 @@ class Scene:
     def __repr__(self) -> str:
         faces = sum(i.mesh.n_faces for i in self.instances)
         return f"<brdfpy.Scene {len(self.instances)} instances ({faces} faces), {len(self.lights)} lights>"
+
+
+# The limits in the docs are the renderer's own (one definition, in brdf-raster's `MAX_PIXELS`).
+Scene.render.__doc__ = (
+    (Scene.render.__doc__ or "")
+    .replace("<MAX_IMAGE_SIDE>", str(MAX_IMAGE_SIDE))
+    .replace("<MAX_PIXELS>", f"{MAX_PIXELS:,}")
+)

@@ -1,4 +1,5 @@
-"""Real spherical harmonics: basis, an exact quadrature, projection and reconstruction (seed 003).
+"""Real spherical harmonics: basis, an exact quadrature, projection and reconstruction (Sloan, Kautz & Snyder
+2002; Green 2003, "Spherical Harmonic Lighting: The Gritty Details").
 
 Convention: orthonormal real harmonics (``∫ Y_i Y_j dω = δ_ij``) without the Condon–Shortley phase, as in
 Ramamoorthi & Hanrahan (2001): ``Y_{1,-1} = 0.488603·y``, ``Y_{1,0} = 0.488603·z``, ``Y_{1,1} = 0.488603·x``.
@@ -26,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
+from brdfpy._arrays import _as_numeric, as_int
 
 __all__ = [
     "MAX_ORDER",
@@ -61,6 +63,10 @@ def num_coeffs(order: int) -> int:
 
 def index(l: int, m: int) -> int:
     """Index of coefficient ``(l, m)``: ``l(l+1) + m``, for ``|m| <= l``."""
+    for name, k in (("l", l), ("m", m)):
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise TypeError(f"{name}: expected an int, got {type(k).__name__}")
+    l, m = int(l), int(m)
     if l < 0 or abs(m) > l:
         raise ValueError(f"(l, m): expected l >= 0 and |m| <= l, got ({l}, {m})")
     return l * (l + 1) + m
@@ -74,28 +80,25 @@ def _check_order(order: int) -> int:
     return int(order)
 
 
-def _dirs(name: str, x: ArrayLike) -> tuple[F64, bool]:
-    a = np.asarray(x)
-    if a.dtype.kind not in "fiu":
-        raise TypeError(f"{name}: expected real numbers, got dtype {a.dtype}")
-    single = a.shape == (3,)
-    if single:
-        a = a.reshape(1, 3)
-    if a.ndim != 2 or a.shape[1] != 3:
-        raise ValueError(f"{name}: expected shape (N, 3) or (3,), got {np.shape(x)}")
-    return np.ascontiguousarray(a, dtype=np.float64), single
+def _dirs(name: str, x: ArrayLike) -> tuple[F64, tuple[int, ...]]:
+    """Directions of shape ``(..., 3)`` as float64 rows ``(N, 3)`` and the leading shape to restore."""
+    a = _as_numeric(name, x)
+    if a.ndim == 0 or a.shape[-1] != 3:
+        raise ValueError(f"{name}: expected an array of shape (..., 3), got {np.shape(x)}")
+    lead = a.shape[:-1]
+    return np.ascontiguousarray(a, dtype=np.float64).reshape(-1, 3), lead
 
 
 def basis(directions: ArrayLike, order: int) -> F64:
     """``Y_i(ω)`` of every direction (rows) for ``i < (order+1)²`` (columns).
 
-    ``directions`` is (N, 3) or (3,), any length (normalised; a zero vector gives a zero row). Returns
-    float64 (N, (order+1)²), or ((order+1)²,) for a single (3,) direction.
+    ``directions`` has shape ``(..., 3)``, any length (normalised; a zero vector gives a zero row). Returns
+    float64 ``(..., (order+1)²)``: ``((order+1)²,)`` for a single ``(3,)`` direction.
     """
     order = _check_order(order)
-    d, single = _dirs("directions", directions)
+    d, lead = _dirs("directions", directions)
     out = _brdfpy.sh_basis(d, order)
-    return out[0] if single else out
+    return out.reshape(*lead, out.shape[1])
 
 
 def quadrature(order: int | None = None, *, n_mu: int | None = None, n_phi: int | None = None) -> Quadrature:
@@ -144,6 +147,8 @@ def project(f: Function, order: int, quad: Quadrature | None = None) -> F64:
     order = _check_order(order)
     if quad is None:
         quad = quadrature(n_mu=2 * order + 2, n_phi=4 * order + 4)
+    elif not isinstance(quad, Quadrature):
+        raise TypeError(f"quad: expected a Quadrature (from brdfpy.sh.quadrature), got {type(quad).__name__}")
     d = np.ascontiguousarray(quad.directions, dtype=np.float64)
     w = np.ascontiguousarray(quad.weights, dtype=np.float64)
     vals = np.asarray(f(d.copy()) if callable(f) else f)
@@ -162,22 +167,20 @@ def project(f: Function, order: int, quad: Quadrature | None = None) -> F64:
 def reconstruct(coeffs: ArrayLike, directions: ArrayLike) -> F64:
     """``Σ_i c_i Y_i(ω)`` at each direction.
 
-    ``coeffs`` is ((L+1)²,) or ((L+1)², 3); ``directions`` (N, 3) or (3,). Returns (N,) / (N, 3), without
-    the N axis for a single (3,) direction.
+    ``coeffs`` is ((L+1)²,) or ((L+1)², 3); ``directions`` ``(..., 3)``. Returns ``(...)`` for scalar
+    coefficients, ``(..., 3)`` for RGB ones (``()`` / ``(3,)`` for a single ``(3,)`` direction).
     """
-    c = np.asarray(coeffs)
-    if c.dtype.kind not in "fiu":
-        raise TypeError(f"coeffs: expected real numbers, got dtype {c.dtype}")
+    c = _as_numeric("coeffs", coeffs)
     scalar = c.ndim == 1
     if scalar:
         c = np.repeat(c.reshape(-1, 1), 3, axis=1)
     if c.ndim != 2 or c.shape[1] != 3:
         raise ValueError(f"coeffs: expected shape ((L+1)^2,) or ((L+1)^2, 3), got {np.shape(coeffs)}")
-    d, single = _dirs("directions", directions)
+    d, lead = _dirs("directions", directions)
     out = _brdfpy.sh_reconstruct(np.ascontiguousarray(c, dtype=np.float64), d)
     if scalar:
-        out = np.ascontiguousarray(out[:, 0])
-    return out[0] if single else out
+        return np.ascontiguousarray(out[:, 0]).reshape(lead)
+    return out.reshape(*lead, 3)
 
 
 def convolve(coeffs: ArrayLike, kernel: ArrayLike) -> F64:
@@ -187,8 +190,8 @@ def convolve(coeffs: ArrayLike, kernel: ArrayLike) -> F64:
     ``kernel`` has ``L + 1`` values. Same formula as ``brdf_core::sh::convolve_zonal`` (a per-band scaling,
     done here in NumPy).
     """
-    c = np.asarray(coeffs, dtype=np.float64)
-    k = np.asarray(kernel, dtype=np.float64)
+    c = _as_numeric("coeffs", coeffs).astype(np.float64)
+    k = _as_numeric("kernel", kernel).astype(np.float64)
     size = c.shape[0] if c.ndim in (1, 2) else 0
     order = math.isqrt(size) - 1
     if size == 0 or (order + 1) ** 2 != size or (c.ndim == 2 and c.shape[1] != 3):
@@ -204,7 +207,7 @@ def convolve(coeffs: ArrayLike, kernel: ArrayLike) -> F64:
 def irradiance(radiance: ArrayLike) -> F64:
     """Irradiance coefficients ``E(n) = ∫ L(ω) max(n·ω, 0) dω`` from radiance coefficients: :func:`convolve`
     with the clamped cosine's ``Â_l`` (Ramamoorthi & Hanrahan 2001)."""
-    c = np.asarray(radiance, dtype=np.float64)
+    c = _as_numeric("radiance", radiance).astype(np.float64)
     order = math.isqrt(c.shape[0]) - 1 if c.ndim in (1, 2) and c.shape[0] > 0 else 0
     return convolve(c, [clamped_cosine_zonal(l) for l in range(order + 1)])
 
@@ -213,6 +216,4 @@ def clamped_cosine_zonal(l: int) -> float:
     """Ramamoorthi & Hanrahan's ``Â_l`` of the clamped cosine ``max(cos θ, 0)`` in closed form
     (``Â_0 = π``, ``Â_1 = 2π/3``, ``Â_2 = π/4``, 0 for odd ``l > 1``): irradiance from radiance multiplies
     band ``l`` by ``Â_l``."""
-    if l < 0:
-        raise ValueError(f"l: expected l >= 0, got {l}")
-    return _brdfpy.sh_clamped_cosine_zonal(l)
+    return _brdfpy.sh_clamped_cosine_zonal(as_int("l", l, 0, 2**62))

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_scalars
+from brdfpy._arrays import as_float, as_scalars, as_str
 
 __all__ = [
     "OPERATORS",
@@ -36,14 +36,14 @@ OPERATORS: tuple[str, ...] = tuple(_brdfpy.tonemap_operators())
 
 
 def _finite(name: str, x: float) -> float:
-    y = float(x)
+    y = as_float(name, x)
     if not math.isfinite(y):
         raise ValueError(f"{name}: must be finite, got {x}")
     return y
 
 
 def clamp(x: ArrayLike) -> NDArray[np.float32]:
-    """Clamp to ``[0, 1]``: 0 below 0, ``x`` in ``[0, 1]``, 1 above (seed 000); NaN → 0."""
+    """Clamp to ``[0, 1]``: 0 below 0, ``x`` in ``[0, 1]``, 1 above; NaN → 0."""
     return _brdfpy.clamp(as_scalars("x", x))
 
 
@@ -100,10 +100,10 @@ def to_uint8(x: ArrayLike, operator: str = "clamp", *, white: float | None = Non
     x : array_like
         Linear radiance, any shape.
     operator : str
-        One of :data:`OPERATORS`: ``"clamp"`` (values above 1 saturate, seed 000), ``"reinhard"``,
+        One of :data:`OPERATORS`: ``"clamp"`` (values above 1 saturate), ``"reinhard"``,
         ``"reinhard_extended"`` (with ``white``, default 4) or ``"aces"``.
     white : float, optional
         White point of ``"reinhard_extended"``.
     """
     w = None if white is None else _finite("white", white)
-    return _brdfpy.to_uint8(as_scalars("x", x), operator, w)
+    return _brdfpy.to_uint8(as_scalars("x", x), as_str("operator", operator, "an operator name"), w)

@@ -15,7 +15,10 @@ from numpy.typing import NDArray
 
 from brdfpy.camera import vec3
 
-__all__ = ["identity", "rotate", "scale", "translate"]
+__all__ = ["UP_AXES", "identity", "rotate", "scale", "translate", "up_to_y"]
+
+#: The up axes :func:`up_to_y` accepts.
+UP_AXES: tuple[str, ...] = ("y", "-y", "z", "-z", "x", "-x")
 
 M4 = NDArray[np.float64]
 
@@ -51,6 +54,10 @@ def rotate(axis: Any, degrees: float) -> M4:
     if not n > 0:
         raise ValueError("axis: must not be zero")
     x, y, z = a / n
+    if isinstance(degrees, bool) or not isinstance(degrees, (int, float, np.integer, np.floating)):
+        raise TypeError(f"degrees: expected a number, got {type(degrees).__name__}")
+    if not math.isfinite(degrees):
+        raise ValueError(f"degrees: must be finite, got {degrees}")
     t = math.radians(float(degrees))
     c, s, k = math.cos(t), math.sin(t), 1 - math.cos(t)
     m = np.eye(4)
@@ -59,4 +66,38 @@ def rotate(axis: Any, degrees: float) -> M4:
         [y * x * k + z * s, c + y * y * k, y * z * k - x * s],
         [z * x * k - y * s, z * y * k + x * s, c + z * z * k],
     ]
+    return m
+
+
+# Proper rotations (det +1: windings and the outside are kept), one per up axis. For z-up files (CAD,
+# 3D printing, Blender) the front faces -y, and the rotation about x that lifts +z to +y also turns -y to
+# +z, the front of a y-up asset (glTF 2.0 §3.4: "+Y is up, the front of a glTF asset faces +Z").
+_UP_TO_Y: dict[str, list[list[float]]] = {
+    "y": [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+    "-y": [[-1, 0, 0], [0, -1, 0], [0, 0, 1]],  # 180° about z: the front (+z) stays
+    "z": [[1, 0, 0], [0, 0, 1], [0, -1, 0]],  # -90° about x: (x, y, z) -> (x, z, -y)
+    "-z": [[1, 0, 0], [0, 0, -1], [0, 1, 0]],  # +90° about x: (x, y, z) -> (x, -z, y)
+    "x": [[0, -1, 0], [1, 0, 0], [0, 0, 1]],  # +90° about z: (x, y, z) -> (-y, x, z)
+    "-x": [[0, 1, 0], [-1, 0, 0], [0, 0, 1]],  # -90° about z: (x, y, z) -> (y, -x, z)
+}
+
+
+def up_to_y(up: str) -> M4:
+    """The rotation that stands up a mesh whose up axis is ``up`` (``"x"``, ``"-x"``, ``"y"``, ``"-y"``,
+    ``"z"``, ``"-z"``) in brdfpy's +y-up world; the identity for ``"y"``.
+
+    For ``"z"`` (CAD, 3D printing and Blender files, whose front faces −y) it is −90° about x,
+    ``(x, y, z) → (x, z, −y)``, which also turns that front to +z, where the default cameras look from.
+    Every one is a proper rotation (determinant +1), so the winding and the outside are kept.
+
+    >>> up_to_y("z") @ [0, 0, 1, 1]
+    array([0., 1., 0., 1.])
+    """
+    if not isinstance(up, str):
+        raise TypeError(f"up: expected one of {', '.join(UP_AXES)}, got {type(up).__name__}")
+    key = up.strip().lower().lstrip("+")
+    if key not in _UP_TO_Y:
+        raise ValueError(f"up: expected one of {', '.join(UP_AXES)}, got {up!r}")
+    m = np.eye(4)
+    m[:3, :3] = _UP_TO_Y[key]
     return m

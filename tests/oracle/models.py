@@ -212,7 +212,7 @@ def blinn_phong_norm(m: float, normalization: str) -> float:
     return (m + 2.0) * (m + 4.0) / (8.0 * PI * (2.0 ** (-m / 2.0) + m))
 
 
-def blinn_phong(g: Geo, kd: Any, ks: Any, shininess: float, normalization: str = "rtr") -> F64:
+def blinn_phong(g: Geo, kd: Any, ks: Any, shininess: float, normalization: str = "exact") -> F64:
     """Seed 002 "Blinn-Phong Model": ``kd/pi + ks N(m) (n.h)^m``."""
     nh = np.maximum(dot(g.n, g.h), 0.0)
     spec = blinn_phong_norm(shininess, normalization) * nh**shininess
@@ -456,22 +456,28 @@ def lafortune(g: Geo, rho_d: Any, rho_s: Any, lobes: Any, power: str = "exact") 
 
 # ----------------------------------------------------------------------------------- registry
 
-#: name -> (function, classic?, parameter renames registry-name -> function-argument)
+#: name -> (function, classic?, parameter renames registry-name -> function-argument: the oracle keeps
+#: the papers' symbols)
 MODELS: dict[str, tuple[Callable[..., F64], bool, dict[str, str]]] = {
-    "lambert": (lambert, False, {}),
-    "lambert_classic": (lambert_classic, True, {"color": "color_"}),
-    "oren_nayar": (oren_nayar, False, {}),
-    "oren_nayar_full": (oren_nayar_full, False, {}),
-    "toon": (toon, True, {}),
+    "lambert": (lambert, False, {"kd": "albedo"}),
+    "lambert_classic": (lambert_classic, True, {"kd": "color_"}),
+    "oren_nayar": (oren_nayar, False, {"kd": "albedo"}),
+    "oren_nayar_full": (oren_nayar_full, False, {"kd": "albedo"}),
+    "toon": (toon, True, {"kd": "diffuse_color", "kd_mid": "diffuse_mid_color", "ks": "specular_color"}),
     "phong_classic": (phong_classic, True, {}),
     "blinn_phong_classic": (blinn_phong_classic, True, {}),
     "phong": (phong, False, {}),
     "blinn_phong": (blinn_phong, False, {}),
     "cook_torrance": (cook_torrance, False, {}),
-    "strauss": (strauss, True, {"color": "color_"}),  # physical: False in the registry (empirical)
-    "ward": (ward, False, {}),
-    "ashikhmin_shirley": (ashikhmin_shirley, False, {}),
-    "lafortune": (lafortune, False, {}),
+    # physical: False in the registry (empirical)
+    "strauss": (
+        strauss,
+        True,
+        {"base_color": "color_", "k_fresnel": "kf", "k_shadow": "ks", "k_offspecular": "kj"},
+    ),
+    "ward": (ward, False, {"kd": "rho_d", "ks": "rho_s"}),
+    "ashikhmin_shirley": (ashikhmin_shirley, False, {"kd": "rd", "ks": "rs"}),
+    "lafortune": (lafortune, False, {"kd": "rho_d", "ks": "rho_s"}),
 }
 
 

@@ -167,6 +167,7 @@ def oracle_scene(spec: Spec) -> oraster.Scene:
 def render_both(
     spec: Spec, width: int, height: int, shading: str = "phong", **kw: Any
 ) -> tuple[Any, oraster.Frame]:
+    kw = {"outputs": "all", **kw}  # every buffer is compared with the reference
     img = brdfpy_scene(spec).render(brdfpy_camera(spec.camera), width, height, shading=shading, **kw)
     cull = kw.get("cull_back_faces", True)
     ref = reference(spec, width, height, shading, cull)

@@ -1,5 +1,9 @@
 //! Throughput of `batch::evaluate` without Python (evals/s of the benchmarked models, one thread and
-//! the rayon default). `cargo run --release -p brdf-core --example batch_throughput [N [MODEL [THREADS]]]`.
+//! the rayon default). `cargo run --release -p brdf-core --example batch_throughput [N [MODEL [THREADS]]]`;
+//! MODEL is `all` (the default list, with every Cook-Torrance D/G/F choice), a registry name, or a
+//! name with parameters, `cook_torrance:distribution=beckmann,masking=smith_separable,eta=0.14/0.38/1.44`
+//! (numbers, colours as `a/b/c`, otherwise choice names). The CPU time per evaluation is the figure to
+//! compare on a loaded machine (other processes inflate wall time, not this process's CPU time).
 
 use std::time::Instant;
 
@@ -27,35 +31,58 @@ fn main() {
     };
     let mut dirs = || -> Vec<Vec3> { (0..n).map(|_| Vec3::new(rnd(), rnd(), rnd().abs() + 0.1)).collect() };
     let (l, v, nn) = (dirs(), dirs(), dirs());
-    let text = |k: &str, x: &str| (k.to_string(), Input::Text(x.into()));
-    let models = [
-        ("lambert", Model::build("lambert", &[]).unwrap()),
-        ("blinn_phong", Model::build("blinn_phong", &[]).unwrap()),
-        ("oren_nayar", Model::build("oren_nayar", &[]).unwrap()),
-        (
-            "cook_torrance",
-            Model::build(
-                "cook_torrance",
-                &[text("distribution", "ggx"), text("masking", "smith"), text("fresnel", "schlick")],
-            )
-            .unwrap(),
-        ),
+    let build = |spec: &str| -> (String, Model) {
+        let (name, rest) = spec.split_once(':').unwrap_or((spec, ""));
+        let inputs: Vec<(String, Input)> = rest
+            .split(',')
+            .filter(|kv| !kv.is_empty())
+            .map(|kv| {
+                let (k, x) = kv.split_once('=').expect("parameters are k=v");
+                let nums: Option<Vec<f64>> = x.split('/').map(|t| t.parse().ok()).collect();
+                let input = match nums {
+                    Some(v) if v.len() == 1 => Input::Number(v[0]),
+                    Some(v) => Input::Numbers(v),
+                    None => Input::Text(x.into()),
+                };
+                (k.to_string(), input)
+            })
+            .collect();
+        (spec.to_string(), Model::build(name, &inputs).unwrap())
+    };
+    let au = "masking=smith_separable,fresnel=conductor,kd=0,roughness=0.3,eta=0.143036/0.375307/1.442045,k=3.982997/2.385556/1.603359";
+    let defaults = [
+        "lambert".to_string(),
+        "cook_torrance".into(),
+        "cook_torrance:distribution=beckmann".into(),
+        "cook_torrance:distribution=gaussian".into(),
+        "cook_torrance:distribution=blinn_phong".into(),
+        "cook_torrance:masking=smith_separable".into(),
+        "cook_torrance:masking=v_groove".into(),
+        "cook_torrance:fresnel=dielectric".into(),
+        "cook_torrance:fresnel=conductor".into(),
+        "cook_torrance:fresnel=color_shift".into(),
+        format!("cook_torrance:distribution=ggx,{au}"),
+        format!("cook_torrance:distribution=beckmann,{au}"),
     ];
+    let arg = std::env::args().nth(2).filter(|o| !o.is_empty() && o != "all");
+    let models: Vec<(String, Model)> = match &arg {
+        Some(spec) => vec![build(spec)],
+        None => defaults.iter().map(|s| build(s)).collect(),
+    };
     let (d, len) = Directions::new(&l, &v, &nn, None).unwrap();
     let mut out = vec![Vec3::ZERO; len];
-    let only = std::env::args().nth(2).filter(|o| !o.is_empty() && o != "all");
     let thread_counts: Vec<usize> = match std::env::args().nth(3).and_then(|s| s.parse().ok()) {
         Some(t) => vec![t],
         None => vec![1, 0],
     };
-    for (name, m) in models.iter().filter(|(name, _)| only.as_deref().is_none_or(|o| o == *name)) {
+    for (name, m) in &models {
         // The same work one sample at a time through the scalar API (what the batch replaced).
         let t = Instant::now();
         for (i, o) in out.iter_mut().enumerate() {
             *o = d.geometry(i).map_or(Vec3::ZERO, |g| m.eval(&g));
         }
         println!(
-            "{name:14} scalar     {:8.1} M evals/s wall (one pass)",
+            "{name:40} scalar     {:8.1} M evals/s wall (one pass)",
             n as f64 / t.elapsed().as_secs_f64() / 1e6
         );
         for &threads in &thread_counts {
@@ -72,7 +99,7 @@ fn main() {
             let cpu = (cpu_seconds() - cpu0) / reps as f64;
             let nt = pool.current_num_threads();
             println!(
-                "{name:14} threads={nt}  {:8.1} M evals/s wall (best of {reps}), {:6.2} ns CPU per eval (N={n})",
+                "{name:40} threads={nt}  {:8.1} M evals/s wall (best of {reps}), {:6.2} ns CPU per eval (N={n})",
                 n as f64 / best / 1e6,
                 cpu / n as f64 * 1e9
             );

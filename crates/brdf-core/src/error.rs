@@ -21,6 +21,21 @@ pub enum BrdfError {
         /// Comma-separated list of the model's parameters.
         known: String,
     },
+    /// The model has no parameter of that name, but has one for the same concept under the name this
+    /// library uses everywhere (see [`crate::models::RENAMED_PARAMS`]).
+    #[error("{model} has no parameter '{name}': {what} is '{new}' (its parameters: {known})")]
+    RenamedParameter {
+        /// The model being built.
+        model: &'static str,
+        /// The name that was given.
+        name: String,
+        /// The name of the same concept in this model.
+        new: &'static str,
+        /// The concept, in words ("the diffuse reflectance").
+        what: &'static str,
+        /// Comma-separated list of the model's parameters.
+        known: String,
+    },
     /// A parameter value is out of its documented range, non-finite, or of the wrong kind.
     #[error("parameter {name:?}: {problem}")]
     InvalidParameter {
@@ -29,8 +44,9 @@ pub enum BrdfError {
         /// What is wrong with it, in words.
         problem: String,
     },
-    /// A batch input has the wrong length or contents.
-    #[error("argument {name:?}: {problem}")]
+    /// A batch input has the wrong shape or contents. Shown as `name: problem`, the form of every
+    /// argument error of the Python API.
+    #[error("{name}: {problem}")]
     InvalidInput {
         /// The argument name as the caller knows it.
         name: &'static str,

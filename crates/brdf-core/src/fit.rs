@@ -1,5 +1,5 @@
-//! Fitting an analytic model's parameters to measured BRDF samples (seed 003, "BRDF Modeling: fit
-//! parameterized BRDF model to measured data").
+//! Fitting an analytic model's parameters to measured BRDF samples (as Ngan, Durand, Matusik, "Experimental
+//! Analysis of BRDF Models", EGSR 2005, fit analytic models to MERL data).
 //!
 //! The fit is a damped least-squares (Levenberg–Marquardt, Marquardt's 1963 form with the damping
 //! scaled by `diag(JᵀJ)` so that it is invariant to the units of each parameter) with a numerical
@@ -481,7 +481,7 @@ mod tests {
                 Sample { l, v: Vec3::new(-0.3, 0.1, 1.0), n: Vec3::Z, f: Vec3::splat(0.6) }
             })
             .collect();
-        let res = fit("lambert", &[], &[("albedo".into(), num(0.5))], &data, &FitOptions::default()).unwrap();
+        let res = fit("lambert", &[], &[("kd".into(), num(0.5))], &data, &FitOptions::default()).unwrap();
         assert!(res.values[0].1.iter().all(|&a| a <= 1.0 && a > 1.0 - 1e-6), "{:?}", res.values);
         assert!(res.converged);
     }
@@ -500,17 +500,17 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("fresnel") && e.contains("scalar and color"), "{e}");
-        let e = fit("lambert", &[("albedo".into(), num(0.5))], &[("albedo".into(), num(0.5))], &s, &o)
+        let e = fit("lambert", &[("kd".into(), num(0.5))], &[("kd".into(), num(0.5))], &s, &o)
             .unwrap_err()
             .to_string();
         assert!(e.contains("both fixed and free"), "{e}");
-        let e = fit("lambert", &[], &[("albedo".into(), num(2.0))], &s, &o).unwrap_err().to_string();
-        assert!(e.contains("albedo") && e.contains("[0, 1]"), "{e}");
+        let e = fit("lambert", &[], &[("kd".into(), num(2.0))], &s, &o).unwrap_err().to_string();
+        assert!(e.contains("kd") && e.contains("[0, 1]"), "{e}");
         let below = [Sample { l: -Vec3::Z, v: Vec3::Z, n: Vec3::Z, f: Vec3::ONE }];
-        let e = fit("lambert", &[], &[("albedo".into(), num(0.5))], &below, &o).unwrap_err().to_string();
+        let e = fit("lambert", &[], &[("kd".into(), num(0.5))], &below, &o).unwrap_err().to_string();
         assert!(e.contains("above the surface"), "{e}");
         let nan = [Sample { l: Vec3::Z, v: Vec3::Z, n: Vec3::Z, f: Vec3::new(0.0, f32::NAN, 0.0) }];
-        let e = fit("lambert", &[], &[("albedo".into(), num(0.5))], &nan, &o).unwrap_err().to_string();
+        let e = fit("lambert", &[], &[("kd".into(), num(0.5))], &nan, &o).unwrap_err().to_string();
         assert!(e.contains("values") && e.contains("row 0"), "{e}");
     }
 }

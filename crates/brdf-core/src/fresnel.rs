@@ -38,23 +38,27 @@ use crate::vector::{reflect, refract};
 /// refuse such input). Source: Fresnel equations as in seeds 001 and 002.
 #[inline]
 pub fn dielectric_sp(cos_i: f32, eta: f32) -> (f32, f32) {
+    dielectric_sp_lanes(cos_i, eta)
+}
+
+/// [`dielectric_sp`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn dielectric_sp_lanes<F: Lane>(cos_i: F, eta: f32) -> (F, F) {
+    let (zero, one) = (F::splat(0.0), F::splat(1.0));
     if !(eta > 0.0 && eta.is_finite()) {
-        return (0.0, 0.0);
+        return (zero, zero);
     }
-    let (cos_i, eta) = if cos_i < 0.0 { (-cos_i, 1.0 / eta) } else { (cos_i, eta) };
-    let cos_i = cos_i.min(1.0);
-    if cos_i == 0.0 {
-        return (1.0, 1.0);
-    }
+    let inside = cos_i.lt(zero);
+    let eta = F::select(inside, F::splat(1.0 / eta), F::splat(eta));
+    let c = F::select(inside, -cos_i, cos_i).min(one);
     // Snell: sin θ_t = sin θ_i / η; total internal reflection when that exceeds 1.
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return (1.0, 1.0);
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let r_s = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    let r_p = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    (r_s * r_s, r_p * r_p)
+    let sin2_t = (one - c * c) / (eta * eta);
+    let cos_t = (one - sin2_t).max(zero).sqrt();
+    let r_s = (c - eta * cos_t) / (c + eta * cos_t);
+    let r_p = (eta * c - cos_t) / (eta * c + cos_t);
+    let total = c.eq(zero) | sin2_t.ge(one);
+    (F::select(total, one, r_s * r_s), F::select(total, one, r_p * r_p))
 }
 
 /// Exact unpolarised dielectric Fresnel reflectance `R = (R_s + R_p)/2` (see [`dielectric_sp`] for
@@ -62,14 +66,32 @@ pub fn dielectric_sp(cos_i: f32, eta: f32) -> (f32, f32) {
 /// `((η − 1)/(η + 1))²` ([`f0_from_ior`]); at grazing incidence it is 1.
 #[inline]
 pub fn dielectric(cos_i: f32, eta: f32) -> f32 {
-    let (rs, rp) = dielectric_sp(cos_i, eta);
-    0.5 * (rs + rp)
+    dielectric_lanes(cos_i, eta)
+}
+
+/// [`dielectric`] on lanes.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn dielectric_lanes<F: Lane>(cos_i: F, eta: f32) -> F {
+    let (rs, rp) = dielectric_sp_lanes(cos_i, eta);
+    F::splat(0.5) * (rs + rp)
 }
 
 /// [`dielectric`] per RGB channel, with one relative index per channel.
 #[inline]
 pub fn dielectric_rgb(cos_i: f32, eta: Vec3) -> Vec3 {
-    Vec3::new(dielectric(cos_i, eta.x), dielectric(cos_i, eta.y), dielectric(cos_i, eta.z))
+    dielectric_rgb_lanes(cos_i, eta).into()
+}
+
+/// [`dielectric_rgb`] on lanes (one evaluation when the three indices are equal).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn dielectric_rgb_lanes<F: Lane>(cos_i: F, eta: Vec3) -> V3<F> {
+    let x = dielectric_lanes(cos_i, eta.x);
+    if eta.x == eta.y && eta.y == eta.z {
+        return V3 { x, y: x, z: x };
+    }
+    V3 { x, y: dielectric_lanes(cos_i, eta.y), z: dielectric_lanes(cos_i, eta.z) }
 }
 
 /// Cook and Torrance's form of the exact dielectric Fresnel term (Cook & Torrance 1982; notes (b3)):
@@ -103,24 +125,48 @@ pub fn dielectric_cook_torrance(cos_i: f32, eta: f32) -> f32 {
 /// `R_p = R_s (cos²θ (a² + b²) + sin⁴θ − 2a cosθ sin²θ)/(cos²θ (a² + b²) + sin⁴θ + 2a cosθ sin²θ)`.
 #[inline]
 pub fn conductor_sp(cos_i: f32, eta: Vec3, k: Vec3) -> (Vec3, Vec3) {
-    let c = cos_i.abs().min(1.0);
-    let c2 = Vec3::splat(c * c);
-    let s2 = Vec3::splat(1.0 - c * c);
-    let eta2 = eta * eta;
-    let k2 = k * k;
-    let t0 = eta2 - k2 - s2;
-    let a2b2 = (t0 * t0 + 4.0 * eta2 * k2).max(Vec3::ZERO).sqrt();
-    let a = (0.5 * (a2b2 + t0)).max(Vec3::ZERO).sqrt();
+    let (rs, rp) = conductor_sp_lanes(cos_i, eta, k);
+    (rs.into(), rp.into())
+}
+
+/// [`conductor_sp`] on lanes (the one place its formula is written), per channel.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn conductor_sp_lanes<F: Lane>(cos_i: F, eta: Vec3, k: Vec3) -> (V3<F>, V3<F>) {
+    let c = cos_i.abs().min(F::splat(1.0));
+    let c2 = c * c;
+    let s2 = F::splat(1.0) - c2;
+    let (x, y, z) = (
+        conductor_channel(c, c2, s2, eta.x, k.x),
+        conductor_channel(c, c2, s2, eta.y, k.y),
+        conductor_channel(c, c2, s2, eta.z, k.z),
+    );
+    (V3 { x: x.0, y: y.0, z: z.0 }, V3 { x: x.1, y: y.1, z: z.1 })
+}
+
+/// `num/den`, or 1 where `den ≤ 0`: 0/0 only happens for η = 1, κ = 0 at grazing incidence, where the
+/// Fresnel terms' limit is 1.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn ratio<F: Lane>(num: F, den: F) -> F {
+    F::select(den.gt(F::splat(0.0)), num / den.max(F::splat(f32::MIN_POSITIVE)), F::splat(1.0))
+}
+
+/// `(R_s, R_p)` of one channel (see [`conductor_sp`]); `c2 = cos²θ`, `s2 = sin²θ`.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn conductor_channel<F: Lane>(c: F, c2: F, s2: F, eta: f32, k: f32) -> (F, F) {
+    let zero = F::splat(0.0);
+    let (eta2, k2) = (eta * eta, k * k);
+    let t0 = F::splat(eta2 - k2) - s2;
+    let a2b2 = (t0 * t0 + F::splat(4.0 * eta2 * k2)).max(zero).sqrt();
+    let a = (F::splat(0.5) * (a2b2 + t0)).max(zero).sqrt();
     let t1 = a2b2 + c2;
-    let t2 = 2.0 * c * a;
+    let t2 = F::splat(2.0) * c * a;
     let t3 = c2 * a2b2 + s2 * s2;
     let t4 = t2 * s2;
-    // 0/0 only for η = 1, κ = 0 at grazing incidence; the grazing limit of the Fresnel terms is 1.
-    let ratio = |num: Vec3, den: Vec3| {
-        Vec3::select(den.cmpgt(Vec3::ZERO), num / den.max(Vec3::splat(f32::MIN_POSITIVE)), Vec3::ONE)
-    };
-    let rs = ratio(t1 - t2, t1 + t2).clamp(Vec3::ZERO, Vec3::ONE);
-    let rp = (rs * ratio(t3 - t4, t3 + t4)).clamp(Vec3::ZERO, Vec3::ONE);
+    let rs = ratio(t1 - t2, t1 + t2).clamp(0.0, 1.0);
+    let rp = (rs * ratio(t3 - t4, t3 + t4)).clamp(0.0, 1.0);
     (rs, rp)
 }
 
@@ -128,8 +174,15 @@ pub fn conductor_sp(cos_i: f32, eta: Vec3, k: Vec3) -> (Vec3, Vec3) {
 /// [`conductor_sp`]). At normal incidence `((η − 1)² + κ²)/((η + 1)² + κ²)`; at grazing incidence 1.
 #[inline]
 pub fn conductor(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
-    let (rs, rp) = conductor_sp(cos_i, eta, k);
-    0.5 * (rs + rp)
+    conductor_lanes(cos_i, eta, k).into()
+}
+
+/// [`conductor`] on lanes.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn conductor_lanes<F: Lane>(cos_i: F, eta: Vec3, k: Vec3) -> V3<F> {
+    let (rs, rp) = conductor_sp_lanes(cos_i, eta, k);
+    (rs + rp).scale(F::splat(0.5))
 }
 
 /// [`conductor`] for one channel.
@@ -147,21 +200,26 @@ pub fn schlick(cos_i: f32, f0: Vec3) -> Vec3 {
     schlick_lanes(cos_i, f0).into()
 }
 
-/// [`schlick`] on lanes (the one place its formula is written; see [`crate::simd`]).
-#[inline(always)]
-pub fn schlick_lanes<F: Lane>(cos_i: F, f0: Vec3) -> V3<F> {
+/// Schlick's weight `(1 − |cos_i|)⁵` (|cos_i| clamped to [0, 1]), the one place it is written.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn schlick_weight_lanes<F: Lane>(cos_i: F) -> F {
     let m = F::splat(1.0) - cos_i.abs().min(F::splat(1.0));
     let m2 = m * m;
-    let w = m2 * m2 * m;
-    V3::splat(f0) + V3::splat(Vec3::ONE - f0).scale(w)
+    m2 * m2 * m
+}
+
+/// [`schlick`] on lanes: `F0 + (1 − F0) w` per channel with [`schlick_weight_lanes`].
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn schlick_lanes<F: Lane>(cos_i: F, f0: Vec3) -> V3<F> {
+    V3::splat(f0) + V3::splat(Vec3::ONE - f0).scale(schlick_weight_lanes(cos_i))
 }
 
 /// [`schlick`] for one channel.
 #[inline]
 pub fn schlick_scalar(cos_i: f32, f0: f32) -> f32 {
-    let m = 1.0 - cos_i.abs().min(1.0);
-    let m2 = m * m;
-    f0 + (1.0 - f0) * m2 * m2 * m
+    f0 + (1.0 - f0) * schlick_weight_lanes(cos_i)
 }
 
 /// Reflectance at normal incidence of a dielectric of relative index η: `F0 = ((η − 1)/(η + 1))²`
@@ -280,9 +338,16 @@ pub fn color_shift(cos_i: f32, f0: Vec3, f0_ref: f32) -> Vec3 {
 /// this so the square root and division happen once, at construction).
 #[inline]
 pub fn color_shift_with_ior(cos_i: f32, f0: Vec3, f0_ref: f32, eta_ref: f32) -> Vec3 {
-    let f_ref = dielectric(cos_i.abs(), eta_ref);
-    let w = ((f_ref - f0_ref).max(0.0) / (1.0 - f0_ref)).min(1.0);
-    f0 + (Vec3::ONE - f0) * w
+    color_shift_with_ior_lanes(cos_i, f0, f0_ref, eta_ref).into()
+}
+
+/// [`color_shift_with_ior`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn color_shift_with_ior_lanes<F: Lane>(cos_i: F, f0: Vec3, f0_ref: f32, eta_ref: f32) -> V3<F> {
+    let f_ref = dielectric_lanes(cos_i.abs(), eta_ref);
+    let w = ((f_ref - F::splat(f0_ref)).max(F::splat(0.0)) / F::splat(1.0 - f0_ref)).min(F::splat(1.0));
+    V3::splat(f0) + V3::splat(Vec3::ONE - f0).scale(w)
 }
 
 /// What happens to light meeting a smooth dielectric interface (seed 001 "Ideal (mirror)
@@ -364,22 +429,21 @@ impl Fresnel {
     /// Reflectance per channel at `cos_i` (= v·h in a microfacet model).
     #[inline]
     pub fn eval(&self, cos_i: f32) -> Vec3 {
-        match *self {
-            Fresnel::None => Vec3::ONE,
-            Fresnel::Schlick { f0 } => schlick(cos_i, f0),
-            Fresnel::Dielectric { eta } => dielectric_rgb(cos_i, eta),
-            Fresnel::Conductor { eta, k } => conductor(cos_i, eta, k),
-            Fresnel::ColorShift { f0, f0_ref, eta_ref } => color_shift_with_ior(cos_i, f0, f0_ref, eta_ref),
-        }
+        self.eval_lanes(cos_i).into()
     }
 
-    /// [`Fresnel::eval`] on lanes: Schlick and `None` wide, the exact forms lane by lane.
-    #[inline(always)]
+    /// [`Fresnel::eval`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn eval_lanes<F: Lane>(&self, cos_i: F) -> V3<F> {
         match *self {
             Fresnel::None => V3::splat(Vec3::ONE),
             Fresnel::Schlick { f0 } => schlick_lanes(cos_i, f0),
-            _ => V3::from_fn(|i| self.eval(cos_i.lane(i))),
+            Fresnel::Dielectric { eta } => dielectric_rgb_lanes(cos_i, eta),
+            Fresnel::Conductor { eta, k } => conductor_lanes(cos_i, eta, k),
+            Fresnel::ColorShift { f0, f0_ref, eta_ref } => {
+                color_shift_with_ior_lanes(cos_i, f0, f0_ref, eta_ref)
+            }
         }
     }
 }

@@ -1,6 +1,6 @@
-//! The Phong illumination model with any reflectance model (SPEC row 14; seed 004 eq. 12.25 and
-//! "The Phong Illumination Model (11)–(12)"; seed 003; with ambient occlusion and light visibility as in
-//! seed 004 eq. 12.75):
+//! The Phong illumination model with any reflectance model (Phong 1975; Theoharis et al. 2008, eq. 12.25;
+//! with
+//! ambient occlusion and light visibility as in Theoharis et al. 2008, eq. 12.75):
 //!
 //! ```text
 //! L = emission + w(p) · k_a ∘ I_a + Σ_j δ_j · E_j ∘ shade(l_j, v, n)
@@ -17,9 +17,8 @@
 
 use glam::{Vec3, Vec3A};
 
-use crate::Geometry;
-use crate::lights::{Incident, Light};
-use crate::models::{Bxdf, Model, ModelVisitor, shade_model, shade_model_lanes};
+use crate::lights::{Incident, IncidentLanes, Light};
+use crate::models::{Bxdf, Model, ModelVisitor, shade_model_lanes};
 use crate::simd::{Lane, LaneGeometry, V3};
 
 /// The material-side constants of the illumination model (all linear RGB).
@@ -46,12 +45,33 @@ pub struct SurfacePoint {
     pub tangent: Option<Vec3A>,
 }
 
+/// `F::LANES` shading points: positions, unit normals, unit view directions and an optional unit
+/// tangent (the lane form of [`SurfacePoint`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SurfaceLanes<F: Lane> {
+    /// Positions `p`.
+    pub p: V3<F>,
+    /// Unit shading normals `n`.
+    pub n: V3<F>,
+    /// Unit directions toward the viewer `v`.
+    pub v: V3<F>,
+    /// Unit tangents for anisotropic models (`None`: an arbitrary frame around `n`).
+    pub tangent: Option<V3<F>>,
+}
+
+impl From<&SurfacePoint> for SurfaceLanes<f32> {
+    #[inline(always)]
+    fn from(s: &SurfacePoint) -> Self {
+        Self { p: V3::splat(s.p), n: s.n.into(), v: s.v.into(), tangent: s.tangent.map(Into::into) }
+    }
+}
+
 /// `L = emission + w·k_a∘I_a + Σ_j δ_j E_j ∘ shade(model; l_j, v, n)` (see the module docs), with the
 /// model known at compile time so a renderer's per-pixel loop has no dispatch in it.
 ///
 /// `obscurance` is `w(p)`; `visibility(j, &incident)` returns `δ_j` (it is only called for lights
-/// that reach `p`, so a shadow ray is cast only when it matters). A light with `δ_j = 0` or `E_j = 0`
-/// costs no BRDF evaluation.
+/// that reach `p`, so a shadow ray is cast only when it matters). A light with `δ_j ≤ 0` (or NaN) or
+/// `E_j = 0` costs no BRDF evaluation. [`radiance_lanes_with`] with one lane.
 #[inline]
 pub fn radiance<M: Bxdf>(
     model: &M,
@@ -61,24 +81,13 @@ pub fn radiance<M: Bxdf>(
     obscurance: f32,
     mut visibility: impl FnMut(usize, &Incident) -> f32,
 ) -> Vec3 {
-    let mut c = terms.emission + obscurance * terms.ambient * terms.ambient_light;
-    for (j, light) in lights.iter().enumerate() {
-        let Some(inc) = light.incident(s.p) else { continue };
-        let delta = visibility(j, &inc);
-        if delta <= 0.0 {
-            continue;
-        }
-        let g = geometry(inc.l, s);
-        c += delta * inc.irradiance * shade_model(model, &g);
-    }
-    c
+    // Called only where light arrives (`reach` is the one lane), so the `Incident` exists.
+    let vis = |j: usize, inc: &IncidentLanes<f32>, _: bool| inc.lane(0).map_or(0.0, |i| visibility(j, &i));
+    radiance_lanes_with(model, terms, lights, &SurfaceLanes::from(s), obscurance, true, vis).into()
 }
 
 /// [`radiance`] at `F::LANES` points with no occlusion (`w = 1`, every `δ = 1`): unit normals `n`,
-/// unit view directions `v`, positions `p`. Lane by lane the same bits as
-/// `radiance(model, terms, lights, &SurfacePoint { p, n, v, tangent: None }, 1.0, |_, _| 1.0)`:
-/// the same operations in the same order, the model through [`shade_model_lanes`]. Lanes outside
-/// `active` hold anything.
+/// unit view directions `v`, positions `p`, no tangent. Lanes outside `active` hold anything.
 #[inline(always)]
 pub fn radiance_lanes<M: Bxdf, F: Lane>(
     model: &M,
@@ -89,27 +98,43 @@ pub fn radiance_lanes<M: Bxdf, F: Lane>(
     v: V3<F>,
     active: F::Mask,
 ) -> V3<F> {
-    // `radiance`'s first line with obscurance 1 (the same expression, so the same bits).
-    let mut c = V3::splat(terms.emission + 1.0 * terms.ambient * terms.ambient_light);
-    let nv = n.dot(v);
-    for light in lights {
-        let inc = light.incident_lanes(p);
-        let lit = active & inc.arrives;
-        if !(0..F::LANES).any(|i| F::mask_lane(lit, i)) {
+    let s = SurfaceLanes { p, n, v, tangent: None };
+    radiance_lanes_with(model, terms, lights, &s, F::splat(1.0), active, |_, _, _| F::splat(1.0))
+}
+
+/// The illumination model at `F::LANES` points: the one formula behind [`radiance`] (one lane) and
+/// [`radiance_lanes`]. `obscurance` is `w` per lane; `visibility(j, &incident, reach)` returns `δ_j`
+/// per lane and is called only when light `j` reaches at least one lane of `reach` (a subset of
+/// `active`). Lanes outside `active` hold anything.
+#[inline(always)]
+pub fn radiance_lanes_with<M: Bxdf, F: Lane>(
+    model: &M,
+    terms: &Terms,
+    lights: &[Light],
+    s: &SurfaceLanes<F>,
+    obscurance: F,
+    active: F::Mask,
+    mut visibility: impl FnMut(usize, &IncidentLanes<F>, F::Mask) -> F,
+) -> V3<F> {
+    let any = |m: F::Mask| !F::mask_all(!m);
+    let ambient = V3::splat(terms.ambient).scale(obscurance) * V3::splat(terms.ambient_light);
+    let mut c = V3::splat(terms.emission) + ambient;
+    let nv = s.n.dot(s.v);
+    let tangent_ok = F::mask_splat(s.tangent.is_some());
+    for (j, light) in lights.iter().enumerate() {
+        let inc = light.incident_lanes(s.p);
+        let reach = active & inc.arrives;
+        if !any(reach) {
             continue;
         }
-        // `Geometry::from_unit(l, v, n)`: no tangent, cosines n·l and n·v.
-        let g = LaneGeometry {
-            l: inc.l,
-            v,
-            n,
-            tangent: None,
-            tangent_ok: F::mask_splat(false),
-            nl: n.dot(inc.l),
-            nv,
-        };
-        // `delta * irradiance * shade` with δ = 1: `1 · E` is `E` exactly.
-        let add = c + inc.irradiance * shade_model_lanes(model, &g, lit);
+        let delta = visibility(j, &inc, reach);
+        let lit = reach & delta.gt(F::splat(0.0));
+        if !any(lit) {
+            continue;
+        }
+        let (n, l) = (s.n, inc.l);
+        let g = LaneGeometry { l, v: s.v, n, tangent: s.tangent, tangent_ok, nl: n.dot(l), nv };
+        let add = c + inc.irradiance.scale(delta) * shade_model_lanes(model, &g, lit);
         c = V3::select(lit, add, c);
     }
     c
@@ -141,16 +166,33 @@ pub fn radiance_dyn(
     model.visit(Radiance { terms, lights, s, obscurance, visibility })
 }
 
-#[inline]
-fn geometry(l: Vec3, s: &SurfacePoint) -> Geometry {
-    let mut g = Geometry::from_unit(l.into(), s.v, s.n);
-    g.tangent = s.tangent;
-    g
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The one-sample formula before it became the lane formula with one lane (scalar `shade_model`
+    /// on a `Geometry`), kept to show that the bits did not move.
+    fn reference_radiance<M: Bxdf>(
+        model: &M,
+        terms: &Terms,
+        lights: &[Light],
+        s: &SurfacePoint,
+        obscurance: f32,
+        mut visibility: impl FnMut(usize, &Incident) -> f32,
+    ) -> Vec3 {
+        let mut c = terms.emission + obscurance * terms.ambient * terms.ambient_light;
+        for (j, light) in lights.iter().enumerate() {
+            let Some(inc) = light.incident(s.p) else { continue };
+            let delta = visibility(j, &inc);
+            if delta <= 0.0 {
+                continue;
+            }
+            let mut g = crate::Geometry::from_unit(inc.l.into(), s.v, s.n);
+            g.tangent = s.tangent;
+            c += delta * inc.irradiance * crate::models::shade_model(model, &g);
+        }
+        c
+    }
 
     #[test]
     fn lane_radiance_equals_scalar_radiance_bit_for_bit_for_every_model_and_light() {
@@ -221,14 +263,19 @@ mod tests {
                     let got = radiance_lanes(self.m, c.terms, c.lights, p, n, v, active);
                     for (i, &(p, n, v)) in group.iter().enumerate() {
                         let s = SurfacePoint { p, n, v, tangent: None };
-                        let want = radiance(self.m, c.terms, c.lights, &s, 1.0, |_, _| 1.0);
+                        let want = reference_radiance(self.m, c.terms, c.lights, &s, 1.0, |_, _| 1.0);
+                        let one = radiance(self.m, c.terms, c.lights, &s, 1.0, |_, _| 1.0);
                         let g = got.lane(i);
-                        assert_eq!(
-                            g.to_array().map(f32::to_bits),
-                            want.to_array().map(f32::to_bits),
-                            "{} at {p}: lanes {g} vs scalar {want}",
-                            M::SPEC.name
-                        );
+                        let bits = |x: Vec3| x.to_array().map(f32::to_bits);
+                        let name = M::SPEC.name;
+                        assert_eq!(bits(g), bits(want), "{name} at {p}: lanes {g} vs scalar {want}");
+                        assert_eq!(bits(one), bits(want), "{name} at {p}: one sample {one} vs {want}");
+                        // With a tangent, an obscurance and a partial shadow, one sample at a time.
+                        let s = SurfacePoint { tangent: Some(Vec3A::X.cross(n).normalize_or_zero()), ..s };
+                        let vis = |j: usize, _: &Incident| [0.5, 0.0, 1.0][j % 3];
+                        let want = reference_radiance(self.m, c.terms, c.lights, &s, 0.3, vis);
+                        let one = radiance(self.m, c.terms, c.lights, &s, 0.3, vis);
+                        assert_eq!(bits(one), bits(want), "{name} at {p} shadowed: {one} vs {want}");
                     }
                 }
             }
@@ -269,7 +316,7 @@ mod tests {
         let s = SurfacePoint { p: Vec3::ZERO, n: Vec3A::Z, v: Vec3A::Z, tangent: None };
         let c = radiance(&m, &terms, &lights, &s, 1.0, |_, _| 1.0);
         // Light 1: E = 1, cos = 1. Light 2: d = 5, E = 1, cos = 4/5.
-        let rho_pi = m.albedo / std::f32::consts::PI;
+        let rho_pi = m.kd / std::f32::consts::PI;
         let expect = terms.emission + terms.ambient * terms.ambient_light + rho_pi * (1.0 + 0.8);
         assert!((c - expect).abs().max_element() < 1e-6, "{c} vs {expect}");
         // Shadowing the point light and halving the ambient occlusion.

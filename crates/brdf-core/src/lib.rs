@@ -8,8 +8,8 @@
 //!   `n` the unit normal; `h = normalize(l + v)`, `r = 2(n·l)n − l`.
 //! - `f_r(l, v)` is the BRDF value in 1/sr, without the cosine ([`Model::eval`]). What a light adds is
 //!   `L_o = f_r · E · max(n·l, 0)`; [`Model::shade`] returns `f_r · max(n·l, 0)`, i.e. `L_o` per unit
-//!   irradiance `E`. The course formulas of seeds 000 and 004 are their own "classic" models whose
-//!   `shade` is the course formula exactly as written.
+//!   irradiance `E`. The textbook shading formulas (Lambert, Phong, Blinn-Phong as written, toon,
+//!   Strauss) are their own "classic" models whose `shade` is the formula exactly as written.
 //! - Colors are linear RGB `Vec3`. Clamping and tone mapping are explicit, separate steps.
 //!
 //! ```
@@ -34,13 +34,16 @@ pub mod microfacet;
 pub mod models;
 pub mod params;
 pub mod properties;
+pub mod rusinkiewicz;
+pub mod sampling;
 pub mod sh;
 pub mod simd;
 pub mod tonemap;
 pub mod vector;
+pub mod views;
 
 pub use error::BrdfError;
 pub use frame::ShadingFrame;
 pub use geometry::Geometry;
 pub use models::{Bxdf, MODEL_SPECS, Model, ModelKind};
-pub use params::{Input, ModelSpec, ParamKind, ParamSpec, Params, Value};
+pub use params::{DerivedDefault, DerivedValue, Input, ModelSpec, ParamKind, ParamSpec, Params, Value};

@@ -1,16 +1,20 @@
-//! Analytic light sources of real-time local illumination (seed 002 "Light Sources in Real-Time",
-//! SPEC rows 14–15): directional, point and spot lights, with the distance attenuation of the Phong
-//! illumination model (seed 004 eq. "distance factor" `f(d) = 1/(c1 + c2 d + c3 d²)`).
+//! Analytic light sources of real-time local illumination (Akenine-Möller et al., *Real-Time
+//! Rendering* 4th ed., §5.2): directional, point and spot lights, with the distance attenuation of the
+//! Phong illumination model `f(d) = 1/(c1 + c2 d + c3 d²)` (Foley, van Dam, Feiner & Hughes, *Computer
+//! Graphics: Principles and Practice* 2nd ed., §16.1).
 //!
 //! A light answers one question, [`Light::incident`]: at a surface point `p`, from which unit direction
-//! `l` (pointing **toward** the light, SPEC conventions) does light arrive, and with which irradiance
+//! `l` (pointing **toward** the light, the convention of the reflectance models) does light arrive, and with
+//! which irradiance
 //! `E` on a surface facing the light (the `E` of `L_o = f_r · E · max(n·l, 0)`)? The renderer then adds
 //! `E · shade(l, v, n)` (see [`crate::illumination`]).
 //!
 //! Units: a directional light's `color` is an irradiance [W/m²] (per RGB channel); a point or spot
 //! light's `intensity` is a radiant intensity [W/sr], divided by the attenuation denominator (which has
-//! units of m² for the inverse-square law). With the course's polynomial the result is the course's
-//! `f(d) · I_i` exactly (a unitless convention).
+//! units of m² for the inverse-square law). With the polynomial the result is Foley et al.'s
+//! `f(d) · I_i` exactly (a unitless convention). Each is what the light emits: the Python lights take a
+//! colour and an intensity on every kind (glTF's `KHR_lights_punctual` convention) and store their
+//! product here.
 
 use glam::Vec3;
 
@@ -20,13 +24,13 @@ use crate::simd::{Lane, V3};
 /// How a point or spot light's intensity falls off with the distance `d` to the surface point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Attenuation {
-    /// No falloff: `E = I` at any distance (the course's "light at infinity" used at a finite place).
+    /// No falloff: `E = I` at any distance (a "light at infinity" used at a finite place).
     None,
     /// The physical inverse-square law `E = I / d²` (radiometry: intensity over distance squared).
     InverseSquare,
-    /// The Phong model's distance factor `E = I / (c1 + c2·d + c3·d²)` (seed 004, "The Phong
-    /// Illumination Model (11)"; also seed 002). Coefficients are ≥ 0 and not all zero. The course
-    /// text shows no `min(1, ·)` clamp, so none is applied: `c1 < 1` brightens nearby points.
+    /// The Phong model's distance factor `E = I / (c1 + c2·d + c3·d²)` (Foley et al. 2nd ed.,
+    /// §16.1). Coefficients are ≥ 0 and not all zero. Foley et al. clamp the factor to ≤ 1; it is
+    /// not clamped here (the form of most course texts), so `c1 < 1` brightens nearby points.
     Polynomial {
         /// Constant term.
         c1: f32,
@@ -38,16 +42,18 @@ pub enum Attenuation {
 }
 
 impl Attenuation {
-    /// The factor multiplying the intensity at distance `d ≥ 0`: 1, `1/d²` or `1/(c1 + c2 d + c3 d²)`.
-    /// `+∞`-free: a zero denominator (the light exactly at the point) gives 0, see [`Light::incident`].
-    #[inline]
-    pub fn factor(&self, d: f32) -> f32 {
+    /// The factor multiplying the intensity at distance `d ≥ 0`: 1, `1/d²` or `1/(c1 + c2 d + c3 d²)`,
+    /// per lane. `+∞`-free: a zero denominator (the light exactly at the point) gives 0, see
+    /// [`Light::incident`].
+    #[inline(always)]
+    pub fn factor<F: Lane>(&self, d: F) -> F {
         let denom = match *self {
-            Attenuation::None => return 1.0,
+            Attenuation::None => return F::splat(1.0),
             Attenuation::InverseSquare => d * d,
-            Attenuation::Polynomial { c1, c2, c3 } => c1 + d * (c2 + d * c3),
+            Attenuation::Polynomial { c1, c2, c3 } => F::splat(c1) + d * (F::splat(c2) + d * F::splat(c3)),
         };
-        if denom > 0.0 { 1.0 / denom } else { 0.0 }
+        let zero = F::splat(0.0);
+        F::select(denom.gt(zero), F::splat(1.0) / denom, zero)
     }
 
     fn validate(&self) -> Result<(), BrdfError> {
@@ -78,20 +84,20 @@ pub struct Incident {
     pub distance: f32,
 }
 
-/// A light source (seed 002): directional, point, or spot with an inner and an outer cone.
+/// A light source: directional, point, or spot with an inner and an outer cone.
 ///
 /// Build through [`Light::directional`], [`Light::point`] and [`Light::spot`], which validate; a
 /// `Light` built by hand is checked again by [`Light::validate`] before a renderer uses it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
-    /// Light from one direction everywhere (the sun; seed 002 "Directional Light").
+    /// Light from one direction everywhere (the sun).
     Directional {
         /// The direction in which the light **travels** (unit); the surface sees it from `−direction`.
         direction: Vec3,
         /// Irradiance on a surface facing the light, per channel.
         color: Vec3,
     },
-    /// An infinitesimally small light at a position (seed 002 "Point Light").
+    /// An infinitesimally small light at a position.
     Point {
         /// Position of the light.
         position: Vec3,
@@ -100,7 +106,7 @@ pub enum Light {
         /// Distance falloff.
         attenuation: Attenuation,
     },
-    /// A point light restricted to a cone (seed 002 "Spot Light"): full intensity inside the inner
+    /// A point light restricted to a cone: full intensity inside the inner
     /// angle, none outside the outer angle, and a smooth falloff in between (see [`spot_falloff`]).
     Spot {
         /// Position of the light.
@@ -122,18 +128,16 @@ pub enum Light {
 /// `t = (cos α − cos θ_o) / (cos θ_i − cos θ_o)` clamped to [0, 1], where `α` is the angle between the
 /// spot axis and the direction from the light to the point. 1 inside the inner cone, 0 outside the outer
 /// one, C¹-continuous in between (Akenine-Möller et al., *Real-Time Rendering* 4th ed., §5.2.2, which
-/// lists smoothstep and `t²` as the usual choices; seed 002 names only the two angles). When
+/// lists smoothstep and `t²` as the usual choices). When
 /// `θ_i = θ_o` the cone has a hard edge.
-#[inline]
-pub fn spot_falloff(cos_alpha: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    if cos_alpha <= cos_outer {
-        return 0.0;
-    }
-    if cos_alpha >= cos_inner {
-        return 1.0;
-    }
-    let t = ((cos_alpha - cos_outer) / (cos_inner - cos_outer)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
+#[inline(always)]
+pub fn spot_falloff<F: Lane>(cos_alpha: F, cos_inner: f32, cos_outer: f32) -> F {
+    let (ci, co) = (F::splat(cos_inner), F::splat(cos_outer));
+    let t = ((cos_alpha - co) / (F::splat(cos_inner - cos_outer))).clamp(0.0, 1.0);
+    let smooth = t * t * (F::splat(3.0) - F::splat(2.0) * t);
+    // cos α ≤ cos θ_o: 0; cos α ≥ cos θ_i: 1 (also when θ_i = θ_o, where `smooth` is 0/0).
+    let inside = F::select(cos_alpha.lt(ci), smooth, F::splat(1.0));
+    F::select(cos_alpha.gt(co), inside, F::splat(0.0))
 }
 
 fn check_color(name: &str, c: Vec3) -> Result<(), BrdfError> {
@@ -236,29 +240,37 @@ impl Light {
     /// - Spot: as a point light, times [`spot_falloff`] of `cos α = (−l)·axis`.
     ///
     /// `None` when nothing arrives: `p` at the light's position (no direction exists), outside the
-    /// spot's outer cone, or zero irradiance.
+    /// spot's outer cone, or zero irradiance. [`Light::incident_lanes`] with one lane.
     #[inline]
     pub fn incident(&self, p: Vec3) -> Option<Incident> {
+        self.incident_lanes::<f32>(V3::splat(p)).lane(0)
+    }
+
+    /// [`Light::incident`] at `F::LANES` points at once: the formula of every light type, written once
+    /// over lanes (the one-sample form is this with `F = f32`).
+    #[inline(always)]
+    pub fn incident_lanes<F: Lane>(&self, p: V3<F>) -> IncidentLanes<F> {
+        let zero = F::splat(0.0);
+        let black = |e: &V3<F>| e.x.eq(zero) & e.y.eq(zero) & e.z.eq(zero);
         match *self {
-            Light::Directional { direction, color } => {
-                if color == Vec3::ZERO {
-                    return None;
-                }
-                Some(Incident { l: -direction, irradiance: color, distance: f32::INFINITY })
-            }
+            Light::Directional { direction, color } => IncidentLanes {
+                l: V3::splat(-direction),
+                irradiance: V3::splat(color),
+                distance: F::splat(f32::INFINITY),
+                arrives: F::mask_splat(color != Vec3::ZERO),
+            },
             Light::Point { position, intensity, attenuation } => {
-                let (l, d) = toward(position, p)?;
-                let irradiance = intensity * attenuation.factor(d);
-                (irradiance != Vec3::ZERO).then_some(Incident { l, irradiance, distance: d })
+                let (l, d, ok) = toward(position, p);
+                let irradiance = V3::splat(intensity).scale(attenuation.factor(d));
+                IncidentLanes { l, irradiance, distance: d, arrives: ok & !black(&irradiance) }
             }
             Light::Spot { position, direction, intensity, inner_angle, outer_angle, attenuation } => {
-                let (l, d) = toward(position, p)?;
-                let cone = spot_falloff((-l).dot(direction), inner_angle.cos(), outer_angle.cos());
-                if cone == 0.0 {
-                    return None;
-                }
-                let irradiance = intensity * (cone * attenuation.factor(d));
-                (irradiance != Vec3::ZERO).then_some(Incident { l, irradiance, distance: d })
+                let (l, d, ok) = toward(position, p);
+                // (−l)·axis as l·(−axis): negation is exact, so the products are the same numbers.
+                let cone = spot_falloff(l.dot(V3::splat(-direction)), inner_angle.cos(), outer_angle.cos());
+                let irradiance = V3::splat(intensity).scale(cone * attenuation.factor(d));
+                let arrives = ok & !cone.eq(zero) & !black(&irradiance);
+                IncidentLanes { l, irradiance, distance: d, arrives }
             }
         }
     }
@@ -271,70 +283,33 @@ pub struct IncidentLanes<F: Lane> {
     pub l: V3<F>,
     /// Irradiance on a surface facing the light.
     pub irradiance: V3<F>,
-    /// Lanes where light arrives ([`Light::incident`] returned `Some`).
+    /// Distance to the light (`∞` for a directional light).
+    pub distance: F,
+    /// Lanes where light arrives ([`Light::incident`] returns `Some`); the other lanes hold anything.
     pub arrives: F::Mask,
 }
 
-impl Light {
-    /// [`Light::incident`] at `F::LANES` points: lane by lane the same bits (same operations in the
-    /// same order). Spot lights run the scalar function on each lane (their cone is not on the hot
-    /// path of any benchmark; one formula, kept in one place).
+impl<F: Lane> IncidentLanes<F> {
+    /// Lane `i` as an [`Incident`], `None` where nothing arrives.
     #[inline(always)]
-    pub fn incident_lanes<F: Lane>(&self, p: V3<F>) -> IncidentLanes<F> {
-        match *self {
-            Light::Directional { direction, color } => IncidentLanes {
-                l: V3::splat(-direction),
-                irradiance: V3::splat(color),
-                arrives: F::mask_splat(color != Vec3::ZERO),
-            },
-            Light::Point { position, intensity, attenuation } => {
-                // `toward`, then `intensity * attenuation.factor(d)`, on lanes.
-                let to = V3::splat(position) - p;
-                let d2 = to.dot(to);
-                let zero = F::splat(0.0);
-                let ok = d2.gt(zero) & d2.is_finite();
-                let d = d2.sqrt();
-                let factor = match attenuation {
-                    Attenuation::None => F::splat(1.0),
-                    Attenuation::InverseSquare | Attenuation::Polynomial { .. } => {
-                        let denom = match attenuation {
-                            Attenuation::Polynomial { c1, c2, c3 } => {
-                                F::splat(c1) + d * (F::splat(c2) + d * F::splat(c3))
-                            }
-                            _ => d * d,
-                        };
-                        F::select(denom.gt(zero), F::splat(1.0) / denom, zero)
-                    }
-                };
-                let irradiance = V3::splat(intensity).scale(factor);
-                let black = irradiance.x.eq(zero) & irradiance.y.eq(zero) & irradiance.z.eq(zero);
-                IncidentLanes { l: to / d, irradiance, arrives: ok & !black }
-            }
-            Light::Spot { .. } => {
-                let inc: [Option<Incident>; 8] =
-                    std::array::from_fn(|i| if i < F::LANES { self.incident(p.lane(i)) } else { None });
-                let arrives = F::from_fn(|i| if inc[i].is_some() { 1.0 } else { 0.0 }).gt(F::splat(0.5));
-                let or_zero = |i: usize, f: fn(&Incident) -> Vec3| inc[i].as_ref().map_or(Vec3::ZERO, f);
-                IncidentLanes {
-                    l: V3::from_fn(|i| or_zero(i, |c| c.l)),
-                    irradiance: V3::from_fn(|i| or_zero(i, |c| c.irradiance)),
-                    arrives,
-                }
-            }
-        }
+    pub fn lane(&self, i: usize) -> Option<Incident> {
+        F::mask_lane(self.arrives, i).then(|| Incident {
+            l: self.l.lane(i),
+            irradiance: self.irradiance.lane(i),
+            distance: self.distance.lane(i),
+        })
     }
 }
 
-/// Unit direction from `p` to `position` and the distance, `None` when they coincide.
-#[inline]
-fn toward(position: Vec3, p: Vec3) -> Option<(Vec3, f32)> {
-    let to = position - p;
-    let d2 = to.length_squared();
-    if !(d2 > 0.0) || !d2.is_finite() {
-        return None;
-    }
+/// Unit direction from `p` to `position`, the distance, and the lanes where they exist (not where the
+/// two coincide or the distance overflows).
+#[inline(always)]
+fn toward<F: Lane>(position: Vec3, p: V3<F>) -> (V3<F>, F, F::Mask) {
+    let to = V3::splat(position) - p;
+    let d2 = to.dot(to);
+    let ok = d2.gt(F::splat(0.0)) & d2.is_finite();
     let d = d2.sqrt();
-    Some((to / d, d))
+    (to / d, d, ok)
 }
 
 #[cfg(test)]
@@ -371,9 +346,9 @@ mod tests {
     #[test]
     fn polynomial_attenuation_is_the_course_distance_factor() {
         let att = Attenuation::Polynomial { c1: 1.0, c2: 0.5, c3: 0.25 };
-        let d = 2.0;
+        let d = 2.0f32;
         assert!((att.factor(d) - 1.0 / (1.0 + 0.5 * d + 0.25 * d * d)).abs() < 1e-7);
-        assert_eq!(Attenuation::None.factor(1e6), 1.0);
+        assert_eq!(Attenuation::None.factor(1e6f32), 1.0);
         assert!(
             Light::point(Vec3::ZERO, Vec3::ONE, Attenuation::Polynomial { c1: 0.0, c2: 0.0, c3: 0.0 })
                 .is_err()
@@ -415,5 +390,102 @@ mod tests {
         assert!(Light::spot(Vec3::ZERO, Vec3::Z, Vec3::ONE, 0.1, 3.2, Attenuation::None).is_err());
         let hand = Light::Directional { direction: Vec3::new(0.0, 0.0, 2.0), color: Vec3::ONE };
         assert!(hand.validate().is_err());
+    }
+
+    /// The one-sample code before `incident` became the lane code with one lane, kept here to show
+    /// that the bits did not move (renders and their references stay the same).
+    fn reference_incident(light: &Light, p: Vec3) -> Option<Incident> {
+        let toward = |position: Vec3| {
+            let to = position - p;
+            let d2 = to.length_squared();
+            (d2 > 0.0 && d2.is_finite()).then(|| (to / d2.sqrt(), d2.sqrt()))
+        };
+        let factor = |a: Attenuation, d: f32| {
+            let denom = match a {
+                Attenuation::None => return 1.0,
+                Attenuation::InverseSquare => d * d,
+                Attenuation::Polynomial { c1, c2, c3 } => c1 + d * (c2 + d * c3),
+            };
+            if denom > 0.0 { 1.0 / denom } else { 0.0 }
+        };
+        let falloff = |ca: f32, ci: f32, co: f32| {
+            if ca <= co {
+                return 0.0;
+            }
+            if ca >= ci {
+                return 1.0;
+            }
+            let t = ((ca - co) / (ci - co)).clamp(0.0, 1.0);
+            t * t * (3.0 - 2.0 * t)
+        };
+        match *light {
+            Light::Directional { direction, color } => (color != Vec3::ZERO).then_some(Incident {
+                l: -direction,
+                irradiance: color,
+                distance: f32::INFINITY,
+            }),
+            Light::Point { position, intensity, attenuation } => {
+                let (l, d) = toward(position)?;
+                let irradiance = intensity * factor(attenuation, d);
+                (irradiance != Vec3::ZERO).then_some(Incident { l, irradiance, distance: d })
+            }
+            Light::Spot { position, direction, intensity, inner_angle, outer_angle, attenuation } => {
+                let (l, d) = toward(position)?;
+                let cone = falloff((-l).dot(direction), inner_angle.cos(), outer_angle.cos());
+                if cone == 0.0 {
+                    return None;
+                }
+                let irradiance = intensity * (cone * factor(attenuation, d));
+                (irradiance != Vec3::ZERO).then_some(Incident { l, irradiance, distance: d })
+            }
+        }
+    }
+
+    #[test]
+    fn one_formula_gives_the_previous_one_sample_bits_and_every_lane_the_same() {
+        use crate::simd::{F32x8, V3};
+        let lights = [
+            Light::directional(Vec3::new(-1.0, -1.0, -1.0), Vec3::new(1.0, 0.5, 0.2)).unwrap(),
+            Light::directional(Vec3::Z, Vec3::ZERO).unwrap(),
+            Light::point(Vec3::splat(2.0), Vec3::splat(10.0), Attenuation::InverseSquare).unwrap(),
+            Light::point(Vec3::X, Vec3::ONE, Attenuation::Polynomial { c1: 0.5, c2: 0.2, c3: 0.1 }).unwrap(),
+            Light::point(Vec3::ZERO, Vec3::ONE, Attenuation::None).unwrap(),
+            Light::spot(
+                Vec3::new(0.0, 2.0, 2.0),
+                Vec3::new(0.0, -1.0, -1.0),
+                Vec3::ONE,
+                0.2,
+                0.5,
+                Attenuation::None,
+            )
+            .unwrap(),
+            Light::spot(Vec3::Z * 3.0, Vec3::NEG_Z, Vec3::splat(4.0), 0.3, 0.3, Attenuation::InverseSquare)
+                .unwrap(),
+        ];
+        let points: Vec<Vec3> = (0..203)
+            .map(|i| match i {
+                0 => Vec3::ZERO, // at the point light
+                1 => Vec3::X,    // at the polynomial one
+                2 => Vec3::splat(f32::MAX),
+                _ => {
+                    let t = i as f32 * 0.37;
+                    Vec3::new(t.sin() * 2.0, (0.7 * t).cos() * 2.0, (1.3 * t).sin())
+                }
+            })
+            .collect();
+        let bits = |i: Option<Incident>| {
+            i.map(|i| [i.l, i.irradiance, Vec3::splat(i.distance)].map(|v| v.to_array().map(f32::to_bits)))
+        };
+        for light in &lights {
+            for group in points.chunks(8) {
+                let at = |i: usize| group[i.min(group.len() - 1)];
+                let lanes = light.incident_lanes(V3::<F32x8>::from_fn(at));
+                for (i, &p) in group.iter().enumerate() {
+                    let want = bits(reference_incident(light, p));
+                    assert_eq!(bits(light.incident(p)), want, "{light:?} at {p}");
+                    assert_eq!(bits(lanes.lane(i)), want, "{light:?} at {p}, lane {i}");
+                }
+            }
+        }
     }
 }

@@ -23,7 +23,7 @@ use glam::Vec3A;
 use crate::BrdfError;
 use crate::frame::ShadingFrame;
 use crate::microfacet::{Distribution, Mixture, beckmann, ggx};
-use crate::simd::Lane;
+use crate::simd::{Lane, V3};
 use crate::vector::halfway;
 
 /// Registry names of the masking terms.
@@ -33,32 +33,59 @@ pub const MASKING_NAMES: [&str; 5] = ["smith", "smith_separable", "v_groove", "k
 /// 0 when any of the cosines is ≤ 0 (light or viewer below the surface, or `v·h ≤ 0`).
 #[inline]
 pub fn v_groove(nl: f32, nv: f32, nh: f32, vh: f32) -> f32 {
-    if !(nl > 0.0 && nv > 0.0 && nh > 0.0 && vh > 0.0) {
-        return 0.0;
-    }
-    (2.0 * nh * nl.min(nv) / vh).min(1.0)
+    v_groove_lanes(nl, nv, nh, vh)
 }
 
-/// Kelemen & Szirmay-Kalos `G = (n·l)(n·v)/(v·h)²` (so that `G/((n·l)(n·v)) = 1/(l·h)²`, seed 001;
-/// notes (b6)). Never exceeds 1 (since `(v·h)² = (1 + l·v)/2 ≥ (n·l)(n·v)`). 0 when any cosine ≤ 0.
+/// [`v_groove`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn v_groove_lanes<F: Lane>(nl: F, nv: F, nh: F, vh: F) -> F {
+    let zero = F::splat(0.0);
+    let g = (F::splat(2.0) * nh * nl.min(nv) / vh).min(F::splat(1.0));
+    F::select(nl.gt(zero) & nv.gt(zero) & nh.gt(zero) & vh.gt(zero), g, zero)
+}
+
+/// Kelemen & Szirmay-Kalos `G = (n·l)(n·v)/(v·h)²` (so that `G/((n·l)(n·v)) = 1/(l·h)²`).
+/// Never exceeds 1 (since `(v·h)² = (1 + l·v)/2 ≥ (n·l)(n·v)`). 0 when any cosine ≤ 0.
 #[inline]
 pub fn kelemen(nl: f32, nv: f32, vh: f32) -> f32 {
-    if !(nl > 0.0 && nv > 0.0 && vh > 0.0) {
-        return 0.0;
-    }
-    (nl * nv / (vh * vh)).min(1.0)
+    kelemen_lanes(nl, nv, vh)
+}
+
+/// [`kelemen`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn kelemen_lanes<F: Lane>(nl: F, nv: F, vh: F) -> F {
+    let zero = F::splat(0.0);
+    let g = (nl * nv / (vh * vh)).min(F::splat(1.0));
+    F::select(nl.gt(zero) & nv.gt(zero) & vh.gt(zero), g, zero)
 }
 
 /// Height-correlated Smith `G = 1/(1 + Λ(l) + Λ(v))` from the two Λ values (0 if either is +∞).
 #[inline]
 pub fn smith_height_correlated(lambda_l: f32, lambda_v: f32) -> f32 {
-    1.0 / (1.0 + lambda_l + lambda_v)
+    smith_height_correlated_lanes(lambda_l, lambda_v)
+}
+
+/// [`smith_height_correlated`] on lanes.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn smith_height_correlated_lanes<F: Lane>(lambda_l: F, lambda_v: F) -> F {
+    F::splat(1.0) / (F::splat(1.0) + lambda_l + lambda_v)
 }
 
 /// Separable Smith `G = 1/((1 + Λ(l))(1 + Λ(v)))` from the two Λ values (0 if either is +∞).
 #[inline]
 pub fn smith_separable(lambda_l: f32, lambda_v: f32) -> f32 {
-    1.0 / ((1.0 + lambda_l) * (1.0 + lambda_v))
+    smith_separable_lanes(lambda_l, lambda_v)
+}
+
+/// [`smith_separable`] on lanes.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn smith_separable_lanes<F: Lane>(lambda_l: F, lambda_v: F) -> F {
+    let one = F::splat(1.0);
+    one / ((one + lambda_l) * (one + lambda_v))
 }
 
 /// Height-correlated Smith G for isotropic GGX of roughness α, from `n·l`, `n·v`.
@@ -131,33 +158,45 @@ impl Masking {
     /// (anisotropic lobes are taken at φ = 0, see [`Distribution::d_cos`]). 0 below the horizon.
     #[inline]
     pub fn g_cos(self, nl: f32, nv: f32, nh: f32, vh: f32, d: &Mixture) -> f32 {
-        if !(nl > 0.0 && nv > 0.0) {
-            return 0.0;
-        }
-        match self {
-            Masking::Smith => smith_height_correlated(d.lambda_cos(nl), d.lambda_cos(nv)),
-            Masking::SmithSeparable => smith_separable(d.lambda_cos(nl), d.lambda_cos(nv)),
-            Masking::VGroove => v_groove(nl, nv, nh, vh),
-            Masking::Kelemen => kelemen(nl, nv, vh),
-            Masking::None => 1.0,
-        }
+        self.g_cos_lanes(nl, nv, nh, vh, d)
+    }
+
+    /// [`Masking::g_cos`] on lanes (the one place it is written).
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn g_cos_lanes<F: Lane>(self, nl: F, nv: F, nh: F, vh: F, d: &Mixture) -> F {
+        let zero = F::splat(0.0);
+        let g = match self {
+            Masking::Smith => smith_height_correlated_lanes(d.lambda_cos_lanes(nl), d.lambda_cos_lanes(nv)),
+            Masking::SmithSeparable => smith_separable_lanes(d.lambda_cos_lanes(nl), d.lambda_cos_lanes(nv)),
+            Masking::VGroove => v_groove_lanes(nl, nv, nh, vh),
+            Masking::Kelemen => kelemen_lanes(nl, nv, vh),
+            Masking::None => F::splat(1.0),
+        };
+        F::select(nl.gt(zero) & nv.gt(zero), g, zero)
     }
 
     /// `G` for unit local directions `l`, `v` (z = normal) and their half vector `h`; anisotropic
     /// Smith Λ where the distribution is anisotropic.
     #[inline]
     pub fn g_local(self, l: Vec3A, v: Vec3A, h: Vec3A, d: &Mixture) -> f32 {
+        self.g_local_lanes(V3::from(l), V3::from(v), V3::from(h), d)
+    }
+
+    /// [`Masking::g_local`] on lanes (the one place it is written).
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn g_local_lanes<F: Lane>(self, l: V3<F>, v: V3<F>, h: V3<F>, d: &Mixture) -> F {
         let (nl, nv, nh, vh) = (l.z, v.z, h.z, v.dot(h));
-        if !(nl > 0.0 && nv > 0.0) {
-            return 0.0;
-        }
-        match self {
-            Masking::Smith => smith_height_correlated(d.lambda(l), d.lambda(v)),
-            Masking::SmithSeparable => smith_separable(d.lambda(l), d.lambda(v)),
-            Masking::VGroove => v_groove(nl, nv, nh, vh),
-            Masking::Kelemen => kelemen(nl, nv, vh),
-            Masking::None => 1.0,
-        }
+        let zero = F::splat(0.0);
+        let g = match self {
+            Masking::Smith => smith_height_correlated_lanes(d.lambda_lanes(l), d.lambda_lanes(v)),
+            Masking::SmithSeparable => smith_separable_lanes(d.lambda_lanes(l), d.lambda_lanes(v)),
+            Masking::VGroove => v_groove_lanes(nl, nv, nh, vh),
+            Masking::Kelemen => kelemen_lanes(nl, nv, vh),
+            Masking::None => F::splat(1.0),
+        };
+        F::select(nl.gt(zero) & nv.gt(zero), g, zero)
     }
 
     /// `G` for world-space unit `l`, `v`, `n` and an optional tangent (for batch/Python use).
@@ -178,8 +217,10 @@ impl Masking {
         self.visibility_lanes(nl, nv, nh, vh, d)
     }
 
-    /// [`Masking::visibility`] on lanes: the GGX Smith forms wide, the other terms lane by lane.
-    #[inline(always)]
+    /// [`Masking::visibility`] on lanes: the closed GGX Smith forms for a single GGX lobe, else
+    /// [`Masking::g_cos_lanes`] `/ (4 (n·l)(n·v))`.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn visibility_lanes<F: Lane>(self, nl: F, nv: F, nh: F, vh: F, d: &Mixture) -> F {
         if let Some(Distribution::Ggx { alpha_x, .. }) = d.as_single() {
             match self {
@@ -189,7 +230,7 @@ impl Masking {
                 _ => {}
             }
         }
-        let g = F::from_fn(|i| self.g_cos(nl.lane(i), nv.lane(i), nh.lane(i), vh.lane(i), d));
+        let g = self.g_cos_lanes(nl, nv, nh, vh, d);
         let zero = F::splat(0.0);
         F::select(nl.gt(zero) & nv.gt(zero), g / (F::splat(4.0) * nl * nv), zero)
     }

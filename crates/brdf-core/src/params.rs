@@ -70,6 +70,40 @@ pub struct ParamSpec {
     pub unit: &'static str,
     /// One-line description.
     pub doc: &'static str,
+    /// A different default when another parameter has a given value (see [`DerivedDefault`]).
+    pub derived_default: Option<DerivedDefault>,
+}
+
+/// A default that depends on another (choice) parameter: when the caller does not give this parameter
+/// and the choice `when` is not `unless`, the default is `value`. E.g. Cook–Torrance's diffuse `kd` is
+/// a plastic's by default but 0 once a metal preset is chosen (a metal has no diffuse term); a `kd`
+/// the caller gives is always kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DerivedDefault {
+    /// The choice parameter this default depends on.
+    pub when: &'static str,
+    /// The value of `when` that keeps the ordinary default.
+    pub unless: &'static str,
+    /// The default otherwise.
+    pub value: DerivedValue,
+}
+
+/// The value of a [`DerivedDefault`] (numbers only: a plain `Copy` type, so specs stay `const`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DerivedValue {
+    /// See [`Value::Scalar`].
+    Scalar(f32),
+    /// See [`Value::Color`].
+    Color([f32; 3]),
+}
+
+impl From<DerivedValue> for Value {
+    fn from(v: DerivedValue) -> Self {
+        match v {
+            DerivedValue::Scalar(x) => Value::Scalar(x),
+            DerivedValue::Color(c) => Value::Color(c),
+        }
+    }
 }
 
 impl ParamSpec {
@@ -82,7 +116,16 @@ impl ParamSpec {
         unit: &'static str,
         doc: &'static str,
     ) -> Self {
-        Self { name, kind: ParamKind::Scalar, default: Value::Scalar(default), min, max, unit, doc }
+        Self {
+            name,
+            kind: ParamKind::Scalar,
+            default: Value::Scalar(default),
+            min,
+            max,
+            unit,
+            doc,
+            derived_default: None,
+        }
     }
 
     /// An RGB parameter with every channel in `[min, max]`.
@@ -94,7 +137,16 @@ impl ParamSpec {
         unit: &'static str,
         doc: &'static str,
     ) -> Self {
-        Self { name, kind: ParamKind::Color, default: Value::Color(default), min, max, unit, doc }
+        Self {
+            name,
+            kind: ParamKind::Color,
+            default: Value::Color(default),
+            min,
+            max,
+            unit,
+            doc,
+            derived_default: None,
+        }
     }
 
     /// A choice among `choices`, defaulting to `default` (which must be one of them).
@@ -112,12 +164,22 @@ impl ParamSpec {
             max: 0.0,
             unit: "",
             doc,
+            derived_default: None,
         }
     }
 
     /// A flag.
     pub const fn flag(name: &'static str, default: bool, doc: &'static str) -> Self {
-        Self { name, kind: ParamKind::Bool, default: Value::Bool(default), min: 0.0, max: 0.0, unit: "", doc }
+        Self {
+            name,
+            kind: ParamKind::Bool,
+            default: Value::Bool(default),
+            min: 0.0,
+            max: 0.0,
+            unit: "",
+            doc,
+            derived_default: None,
+        }
     }
 
     /// A flat array of rows of `width` numbers, each in `[min, max]`.
@@ -138,6 +200,7 @@ impl ParamSpec {
             max,
             unit,
             doc,
+            derived_default: None,
         }
     }
 
@@ -207,10 +270,10 @@ pub struct ModelSpec {
     pub name: &'static str,
     /// One-line summary with the formula.
     pub summary: &'static str,
-    /// Where the formula comes from (seed file and/or paper).
+    /// Where the formula comes from (paper or book, with section or equation where it helps).
     pub source: &'static str,
-    /// `true` for BRDFs in 1/sr that should be reciprocal and energy-conserving; `false` for the course
-    /// formulas of seeds 000 and 004, offered exactly as written.
+    /// `true` for BRDFs in 1/sr that should be reciprocal and energy-conserving; `false` for the
+    /// classic (textbook) shading formulas, offered exactly as written.
     pub physical: bool,
     /// `true` when the model is anisotropic and reads the tangent.
     pub anisotropic: bool,
@@ -230,10 +293,16 @@ impl Params {
     pub fn resolve(spec: &ModelSpec, inputs: &[(String, Input)]) -> Result<Self, BrdfError> {
         for (name, _) in inputs {
             if !spec.params.iter().any(|p| p.name == name) {
-                return Err(BrdfError::UnknownParameter {
-                    model: spec.name,
-                    name: name.clone(),
-                    known: spec.params.iter().map(|p| p.name).collect::<Vec<_>>().join(", "),
+                let known = spec.params.iter().map(|p| p.name).collect::<Vec<_>>().join(", ");
+                return Err(match crate::models::renamed_param(spec, name) {
+                    Some(r) => BrdfError::RenamedParameter {
+                        model: spec.name,
+                        name: name.clone(),
+                        new: r.new,
+                        what: r.what,
+                        known,
+                    },
+                    None => BrdfError::UnknownParameter { model: spec.name, name: name.clone(), known },
                 });
             }
         }
@@ -245,12 +314,30 @@ impl Params {
             };
             values.push((p.name, v));
         }
-        Ok(Self { model: spec.name, values })
+        let mut params = Self { model: spec.name, values };
+        params.derive_defaults(spec, inputs);
+        Ok(params)
     }
 
     /// The defaults of `spec`.
     pub fn defaults(spec: &ModelSpec) -> Self {
-        Self { model: spec.name, values: spec.params.iter().map(|p| (p.name, p.default.clone())).collect() }
+        let mut params = Self {
+            model: spec.name,
+            values: spec.params.iter().map(|p| (p.name, p.default.clone())).collect(),
+        };
+        params.derive_defaults(spec, &[]);
+        params
+    }
+
+    /// Apply the [`DerivedDefault`]s of the parameters the caller did not give.
+    fn derive_defaults(&mut self, spec: &ModelSpec, inputs: &[(String, Input)]) {
+        for p in spec.params {
+            let Some(d) = &p.derived_default else { continue };
+            let given = inputs.iter().any(|(n, _)| n == p.name);
+            if !given && self.get(d.when) != &Value::Choice(d.unless) {
+                self.set(p.name, d.value.into());
+            }
+        }
     }
 
     /// All values in spec order.

@@ -1,4 +1,5 @@
-//! BRDF properties as checks a user can run on any [`Model`] (SPEC row 19; seeds 001, 002, 003):
+//! BRDF properties as checks a user can run on any [`Model`] (Pharr, Jakob, Humphreys, *Physically Based
+//! Rendering*, 4th ed., §4.3.1):
 //! positivity, Helmholtz reciprocity, energy conservation through the directional albedo, and the
 //! normalisation of a microfacet distribution.
 //!
@@ -110,7 +111,7 @@ fn random_geometry(rng: &mut SplitMix64) -> Option<Geometry> {
 /// Positivity check: the smallest channel of `f_r(l, v)` over `samples` random configurations
 /// (random normal and tangent; `l`, `v` uniform over the upper hemisphere; seeded by `seed`).
 ///
-/// A BRDF must be ≥ 0 everywhere (seed 003, "BRDF properties"), so a correct model returns a value
+/// A BRDF must be ≥ 0 everywhere, so a correct model returns a value
 /// ≥ 0. Returns NaN as soon as the model returns a non-finite value, so that such a model fails any
 /// `>= 0` test. `samples = 0` returns `+∞` (the minimum over nothing).
 pub fn positivity(model: &Model, samples: usize, seed: u64) -> f32 {
@@ -134,9 +135,9 @@ pub const RECIPROCITY_FLOOR: f32 = 1e-6;
 /// Helmholtz reciprocity check: `max |f(l, v) − f(v, l)| / max(|f(l, v)|, |f(v, l)|, 1e-6)` over every
 /// channel of `samples` random configurations (as in [`positivity`]; seeded by `seed`).
 ///
-/// Physical BRDFs satisfy `f(l, v) = f(v, l)` (seeds 001, 003), so a correct model returns a few f32
-/// ulps (≲ 1e-6 for most models; lobes `x^γ` amplify a rounding difference in `x` by γ). Course
-/// formulas (classic models) generally are not reciprocal. Returns NaN if the model returns a
+/// Physical BRDFs satisfy `f(l, v) = f(v, l)` (Helmholtz reciprocity), so a correct model returns a
+/// few f32 ulps (≲ 1e-6 for most models; lobes `x^γ` amplify a rounding difference in `x` by γ).
+/// Textbook formulas (classic models) are not reciprocal. Returns NaN if the model returns a
 /// non-finite value; 0 for `samples = 0`.
 pub fn reciprocity_error(model: &Model, samples: usize, seed: u64) -> f32 {
     let mut rng = SplitMix64::new(seed);
@@ -196,7 +197,7 @@ type Rule = Vec<(f64, f64)>;
 
 /// Gauss–Legendre nodes and weights on `[−1, 1]` (Newton iteration on `P_n`, f64; nodes accurate to
 /// about 1e-15).
-fn gauss_legendre(n: usize) -> Rule {
+pub(crate) fn gauss_legendre(n: usize) -> Rule {
     let mut rule = vec![(0.0, 0.0); n];
     for i in 0..n.div_ceil(2) {
         // Tricomi's initial guess for the i-th largest root.
@@ -357,6 +358,30 @@ pub fn hemisphere_integral(
     Ok(integrate(features, q, |w| DVec3::splat(g(w))).x)
 }
 
+/// The nodes of the graded product rule as `(direction, weight)` pairs, `Σ wₖ g(ωₖ) ≈ ∫_{H²} g(ω) dω`
+/// (the `sin θ` of the measure is in the weights), graded toward the polar angle of `peak` and toward
+/// its azimuth and the opposite one, as [`hemisphere_integral`] with `Some(peak)` (local frame,
+/// z = normal). For callers that evaluate a model over every node in one batch (brdf-core `views`).
+pub fn hemisphere_rule(peak: Vec3A, q: &Quadrature) -> Result<Vec<(Vec3A, f64)>, BrdfError> {
+    q.validate()?;
+    let p = crate::vector::normalize_or_zero(peak);
+    let features = Features {
+        theta: f64::from(p.z.clamp(-1.0, 1.0)).acos(),
+        phi0: f64::from(p.y).atan2(f64::from(p.x)),
+        graded: [true, false, true, false],
+    };
+    let (theta, phi) = product_rule(features, q);
+    let phi: Vec<(f64, f64, f64)> = phi.iter().map(|&(p, w)| (p.cos(), p.sin(), w)).collect();
+    let mut nodes = Vec::with_capacity(theta.len() * phi.len());
+    for &(t, wt) in &theta {
+        let (st, ct) = t.sin_cos();
+        for &(cp, sp, wp) in &phi {
+            nodes.push((Vec3A::new((st * cp) as f32, (st * sp) as f32, ct as f32), wp * wt * st));
+        }
+    }
+    Ok(nodes)
+}
+
 /// Normalisation of a microfacet distribution: `∫_{H²} D(h) (n·h) dω_h`, which is 1 for a normalised
 /// `D` (projected microfacet area = macro-surface area; Walter et al. 2007 eq. 4; notes (b1)).
 ///
@@ -371,7 +396,7 @@ pub fn microfacet_normalization(d: impl Fn(Vec3A) -> f32 + Sync, q: &Quadrature)
 ///
 /// This is the fraction of the energy arriving from `v` that is reflected (by reciprocity, also the
 /// reflectance under uniform illumination seen from `v`): energy conservation requires `ρ(v) ≤ 1` for
-/// every `v` (seeds 001, 002, 003). For a classic model it is `∫ shade dω`, the course formula's
+/// every `v`. For a classic model it is `∫ shade dω`, the textbook formula's
 /// response to a uniform white sky. See the module docs for the quadrature and its accuracy.
 pub fn directional_albedo_at(model: &Model, v: Vec3, q: &Quadrature) -> Result<Vec3, BrdfError> {
     q.validate()?;

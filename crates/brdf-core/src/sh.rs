@@ -1,6 +1,7 @@
-//! Real spherical harmonics: basis, projection by an exact quadrature, reconstruction (seed 003:
-//! "Representation in spherical harmonics basis — mathematically elegant filtering,
-//! illumination-BRDF integration").
+//! Real spherical harmonics: basis, projection by an exact quadrature, reconstruction (R. Ramamoorthi,
+//! P. Hanrahan, "An Efficient Representation for Irradiance Environment Maps", SIGGRAPH 2001; P.-P.
+//! Sloan, "Stupid Spherical Harmonics (SH) Tricks", GDC 2008): filtering and illumination–BRDF
+//! integration as products of coefficients.
 //!
 //! ## Convention
 //! Orthonormal real harmonics, `∫_{S²} Y_i Y_j dω = δ_ij`, **without** the Condon–Shortley phase
@@ -114,6 +115,24 @@ pub fn basis(dir: DVec3, order: usize) -> Result<Vec<f64>, BrdfError> {
     Ok(out)
 }
 
+/// `Y_i(dirs[k])` into row `k` of `out` (`(order+1)²` values per row, C order), rows in parallel on the
+/// current rayon pool (each row depends only on its direction, so any thread count gives the same bits).
+pub fn basis_rows(dirs: &[DVec3], order: usize, out: &mut [f64]) -> Result<(), BrdfError> {
+    check_order(order)?;
+    let nc = num_coeffs(order);
+    if out.len() != dirs.len() * nc {
+        return Err(BrdfError::InvalidInput {
+            name: "out",
+            problem: format!("has {} values, expected {} rows of {nc}", out.len(), dirs.len()),
+        });
+    }
+    out.par_chunks_mut(nc)
+        .zip(dirs.par_iter())
+        .with_min_len(1024)
+        .for_each(|(row, d)| basis_into(*d, order, row));
+    Ok(())
+}
+
 /// Gauss–Legendre nodes and weights on `[−1, 1]` (`n` nodes, exact for polynomials of degree
 /// ≤ `2n − 1`), by Newton's method on `P_n` from the Tricomi initial guesses.
 pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -224,7 +243,9 @@ pub fn project_values(values: &[DVec3], quad: &Quadrature, order: usize) -> Resu
     }
     let nc = num_coeffs(order);
     let chunk = 256;
-    let coeffs = values
+    // Partial sums per fixed chunk of nodes, then added in chunk order: rayon's `reduce` would add
+    // them in a tree shaped by how the work was split, whose rounding depends on the thread count.
+    let partials: Vec<Vec<DVec3>> = values
         .par_chunks(chunk)
         .enumerate()
         .map(|(ci, vals)| {
@@ -240,15 +261,13 @@ pub fn project_values(values: &[DVec3], quad: &Quadrature, order: usize) -> Resu
             }
             acc
         })
-        .reduce(
-            || vec![DVec3::ZERO; nc],
-            |mut a, b| {
-                for (x, y) in a.iter_mut().zip(&b) {
-                    *x += *y;
-                }
-                a
-            },
-        );
+        .collect();
+    let mut coeffs = vec![DVec3::ZERO; nc];
+    for p in &partials {
+        for (x, y) in coeffs.iter_mut().zip(p) {
+            *x += *y;
+        }
+    }
     Ok(coeffs)
 }
 
@@ -300,9 +319,16 @@ pub fn clamped_cosine_zonal(l: usize) -> f64 {
         1 => 2.0 * PI / 3.0,
         _ if l % 2 == 1 => 0.0,
         _ => {
-            // l! / (2^l (l/2)!²) = C(l, l/2) / 2^l, built as a product to stay in range.
+            // l! / (2^l (l/2)!²) = C(l, l/2) / 2^l, built as a product to stay in range; past 2^10
+            // terms, its asymptotic series C(2h, h)/4^h = (1 − 1/8h + 1/128h² + 5/1024h³ − …)/√(πh)
+            // (exact to < 10⁻¹³ there), so that any l costs O(1) (l = 2^63 looped for ever).
             let h = l / 2;
-            let ratio: f64 = (1..=h).map(|k| (h + k) as f64 / (4.0 * k as f64)).product();
+            let ratio: f64 = if h <= 1024 {
+                (1..=h).map(|k| (h + k) as f64 / (4.0 * k as f64)).product()
+            } else {
+                let x = 1.0 / h as f64;
+                (1.0 - x / 8.0 + x * x / 128.0 + 5.0 * x * x * x / 1024.0) / (PI * h as f64).sqrt()
+            };
             let sign = if h % 2 == 1 { 1.0 } else { -1.0 };
             2.0 * PI * sign / ((l as f64 + 2.0) * (l as f64 - 1.0)) * ratio
         }
@@ -312,8 +338,8 @@ pub fn clamped_cosine_zonal(l: usize) -> f64 {
 /// Convolution with a kernel `k(ω·n)` that is symmetric about an axis (Funk–Hecke theorem):
 /// `∫ f(ω) k(ω·n) dω = Σ_lm Â_l c_lm Y_lm(n)` with `Â_l = 2π ∫_{−1}^{1} k(t) P_l(t) dt`, so band `l` is
 /// scaled by `kernel[l] = Â_l`. With `kernel[l] = clamped_cosine_zonal(l)` this turns radiance into
-/// irradiance `E(n) = ∫ L(ω) max(n·ω, 0) dω` (Ramamoorthi & Hanrahan 2001) — seed 003's
-/// "illumination–BRDF integration" done as a product of coefficients.
+/// irradiance `E(n) = ∫ L(ω) max(n·ω, 0) dω` (Ramamoorthi & Hanrahan 2001): illumination–BRDF
+/// integration done as a product of coefficients.
 pub fn convolve_zonal(coeffs: &[DVec3], kernel: &[f64]) -> Result<Vec<DVec3>, BrdfError> {
     let order = order_of(coeffs.len())?;
     if kernel.len() != order + 1 {
@@ -522,5 +548,41 @@ mod tests {
         assert!(project_values(&vals, &q, 2).unwrap_err().to_string().contains("row 4"));
         assert!(reconstruct(&[DVec3::ONE; 5], &[DVec3::Z]).unwrap_err().to_string().contains("(L+1)^2"));
         assert!(Quadrature::new(0, 3).unwrap_err().to_string().contains("n_mu"));
+    }
+
+    #[test]
+    fn projection_gives_the_same_bits_at_any_thread_count() {
+        let q = Quadrature::new(64, 129).unwrap();
+        let values: Vec<DVec3> =
+            q.dirs.iter().map(|d| DVec3::new(1.0 + d.x * d.y, (3.0 * d.z).sin().abs(), d.x.exp())).collect();
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| project_values(&values, &q, 4).unwrap())
+        };
+        let one = run(1);
+        for threads in [2, 3, 8] {
+            let other = run(threads);
+            assert!(
+                one.iter()
+                    .zip(&other)
+                    .all(|(a, b)| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)),
+                "{threads} threads"
+            );
+        }
+    }
+
+    #[test]
+    fn the_irradiance_of_a_linear_gradient_sky_is_its_analytic_value() {
+        // L(ω) = a + b·(ω·z) ≥ 0 for a ≥ b: E(n) = ∫ L max(n·ω, 0) dω = π a + (2π/3) b (n·z), since
+        // ∫ (ω·z) max(n·ω, 0) dω = (2π/3) n·z. Order 2 holds it exactly (a band-1 function).
+        let (a, b) = (1.0, 0.6);
+        let q = Quadrature::for_order(2).unwrap();
+        let coeffs = project(|d| DVec3::splat(a + b * d.z), &q, 2).unwrap();
+        let e = irradiance(&coeffs).unwrap();
+        for n in [DVec3::Z, -DVec3::Z, DVec3::X, DVec3::new(0.3, -0.5, 0.8).normalize()] {
+            let got = reconstruct(&e, &[n]).unwrap()[0];
+            let want = PI * a + 2.0 * PI / 3.0 * b * n.z;
+            assert!((got - DVec3::splat(want)).abs().max_element() < 1e-12, "n {n}: {got} vs {want}");
+        }
     }
 }

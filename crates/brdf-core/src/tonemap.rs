@@ -1,4 +1,4 @@
-//! From linear HDR radiance to display values: clamping (seed 000), HDR tone-mapping operators that
+//! From linear HDR radiance to display values: clamping, HDR tone-mapping operators that
 //! map `[0, ∞)` into `[0, 1]`, exposure, the sRGB transfer function and 8-bit quantisation.
 //!
 //! The pipeline for writing an 8-bit image is `exposure → operator → sRGB OETF → to_u8`
@@ -11,7 +11,7 @@
 //! ```
 //! use brdf_core::tonemap::{Operator, encode_srgb8};
 //! use glam::Vec3;
-//! // bench/SCENE.md's centre pixel.
+//! // A lit orange pixel in linear RGB, clamped and sRGB-encoded.
 //! assert_eq!(encode_srgb8(Vec3::new(0.810225, 0.311365, 0.211593), Operator::Clamp), [232, 151, 127]);
 //! ```
 
@@ -27,7 +27,7 @@ fn sanitize(x: f32) -> f32 {
     x.max(0.0).min(f32::MAX)
 }
 
-/// Clamp one channel to `[0, 1]` (seed 000: `clamp(y) = 0 if y < 0, y if y ∈ [0, 1], 1 if y > 1`);
+/// Clamp one channel to `[0, 1]` (`clamp(y) = 0 if y < 0, y if y ∈ [0, 1], 1 if y > 1`);
 /// NaN → 0.
 #[allow(clippy::manual_clamp)] // NaN → 0, which `f32::clamp` would not do
 #[inline]
@@ -35,7 +35,7 @@ pub fn clamp_f32(x: f32) -> f32 {
     x.max(0.0).min(1.0)
 }
 
-/// Clamp every channel to `[0, 1]` (seed 000, "clamp the values at the end of the computation").
+/// Clamp every channel to `[0, 1]` (what a scan-line renderer does at the end of the computation).
 ///
 /// This is the scan-line renderer's answer to values above 1: it loses all detail in bright regions,
 /// which is what the HDR operators below avoid.
@@ -111,21 +111,38 @@ pub fn aces(c: Vec3) -> Vec3 {
 
 /// Exposure: multiply linear radiance by `2^ev` (`ev` in stops, photographic exposure value offset).
 ///
-/// `ev` must be finite (callers validate it); the result is not clamped.
+/// `ev` must be finite (callers validate it). A finite value stays finite: where `c · 2^ev` is beyond
+/// float32 the result saturates at `±f32::MAX` (`ev = 10³⁸` gave ∞, and 0 · ∞ = NaN for black).
 #[inline]
 pub fn exposure(c: Vec3, ev: f32) -> Vec3 {
-    c * ev.exp2()
+    Vec3::new(exposure_f32(c.x, ev), exposure_f32(c.y, ev), exposure_f32(c.z, ev))
+}
+
+/// [`exposure`] of one value.
+#[inline]
+pub fn exposure_f32(c: f32, ev: f32) -> f32 {
+    let y = c * ev.exp2();
+    if (y.is_finite() && (y != 0.0 || c == 0.0)) || !c.is_finite() {
+        return y;
+    }
+    if c == 0.0 {
+        return c;
+    }
+    // 2^ev overflowed or underflowed float32 while c · 2^ev may not: in f64 (exact for |ev| < 1022),
+    // then saturated.
+    let max = f64::from(f32::MAX);
+    (f64::from(c) * f64::from(ev).exp2()).clamp(-max, max) as f32
 }
 
 /// sRGB opto-electronic transfer function (IEC 61966-2-1) of one channel, after clamping to `[0, 1]`:
-/// `v = 12.92 c` if `c ≤ 0.0031308`, else `v = 1.055 c^(1/2.4) − 0.055` (bench/SCENE.md, "Output").
+/// `v = 12.92 c` if `c ≤ 0.0031308`, else `v = 1.055 c^(1/2.4) − 0.055`.
 #[inline]
 pub fn srgb_encode_f32(c: f32) -> f32 {
     let c = clamp_f32(c);
     if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 
-/// sRGB OETF per channel (linear → encoded, both in `[0, 1]`), exactly SCENE.md's "Output" formula;
+/// sRGB OETF per channel (linear → encoded, both in `[0, 1]`), exactly IEC 61966-2-1's formula;
 /// the input is clamped to `[0, 1]` first.
 #[inline]
 pub fn srgb_encode(c: Vec3) -> Vec3 {
@@ -147,7 +164,7 @@ pub fn srgb_decode(v: Vec3) -> Vec3 {
 }
 
 /// Quantise an encoded value to 8 bits: `floor(255 v + 0.5)` after clamping `v` to `[0, 1]`
-/// (round half up, as GL's UNORM8 conversion; SCENE.md "Output"). NaN → 0.
+/// (round half up, as GL's UNORM8 conversion). NaN → 0.
 #[inline]
 pub fn to_u8(v: f32) -> u8 {
     // In [0, 255.5] after the clamp, so the cast never saturates.
@@ -157,7 +174,7 @@ pub fn to_u8(v: f32) -> u8 {
 /// A tone-mapping operator: maps linear HDR RGB (any non-negative value) to `[0, 1]` per channel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Operator {
-    /// [`clamp`]: values above 1 saturate (seed 000).
+    /// [`clamp`]: values above 1 saturate.
     Clamp,
     /// [`reinhard`]: `x / (1 + x)`.
     Reinhard,

@@ -3,7 +3,7 @@
 
 use glam::Vec3A;
 
-/// Mirror direction of `w` about the unit normal `n`: `r = 2(n·w)n − w` (seed 003; SPEC conventions).
+/// Mirror direction of `w` about the unit normal `n`: `r = 2(n·w)n − w`.
 #[inline]
 pub fn reflect(w: Vec3A, n: Vec3A) -> Vec3A {
     2.0 * n.dot(w) * n - w
@@ -21,7 +21,7 @@ pub fn halfway(l: Vec3A, v: Vec3A) -> Option<Vec3A> {
 ///
 /// `w` points away from the surface on the incident side, `n` is the unit normal on that side
 /// (`n·w > 0`). The result points away from the surface on the other side. `None` on total internal
-/// reflection (`sin² θ_t > 1`) or `eta ≤ 0` (seed 001, "Refraction").
+/// reflection (`sin² θ_t > 1`) or `eta ≤ 0` (Snell's law; Pharr et al., PBR 4th ed., §9.3).
 #[inline]
 pub fn refract(w: Vec3A, n: Vec3A, eta: f32) -> Option<Vec3A> {
     if !(eta > 0.0) {

@@ -59,18 +59,12 @@ fn close(a: Vec3, b: DVec3, rel: f64) -> bool {
 #[test]
 fn oren_nayar_with_zero_roughness_is_lambert_in_every_variant() {
     let albedo = Input::Numbers(vec![0.9, 0.5, 0.2]);
-    let lambert = model("lambert", &[("albedo", albedo.clone())]);
+    let lambert = model("lambert", &[("kd", albedo.clone())]);
     let variants = [
-        model("oren_nayar", &[("albedo", albedo.clone()), ("sigma", num(0.0))]),
-        model(
-            "oren_nayar",
-            &[("albedo", albedo.clone()), ("sigma", num(0.0)), ("variant", text("compensated"))],
-        ),
-        model("oren_nayar_full", &[("albedo", albedo.clone()), ("sigma", num(0.0))]),
-        model(
-            "oren_nayar_full",
-            &[("albedo", albedo), ("sigma", num(0.0)), ("interreflection", flag(false))],
-        ),
+        model("oren_nayar", &[("kd", albedo.clone()), ("sigma", num(0.0))]),
+        model("oren_nayar", &[("kd", albedo.clone()), ("sigma", num(0.0)), ("variant", text("compensated"))]),
+        model("oren_nayar_full", &[("kd", albedo.clone()), ("sigma", num(0.0))]),
+        model("oren_nayar_full", &[("kd", albedo), ("sigma", num(0.0)), ("interreflection", flag(false))]),
     ];
     for ((ti, pi), (tr, pr)) in random_pairs(2000, 1) {
         let g = geom(dir(ti, pi), dir(tr, pr), Vec3::Z);
@@ -97,10 +91,8 @@ fn qualitative_oren_nayar_equals_the_course_formula_with_angles() {
     // The implementation uses max(0, s)/max(n·l, n·v) instead of acos, sin and tan.
     for (variant, c) in [("qualitative", 0.33), ("compensated", 0.57)] {
         for sigma in [0.2, 0.6, 1.5] {
-            let m = model(
-                "oren_nayar",
-                &[("albedo", num(0.7)), ("sigma", num(sigma)), ("variant", text(variant))],
-            );
+            let m =
+                model("oren_nayar", &[("kd", num(0.7)), ("sigma", num(sigma)), ("variant", text(variant))]);
             for (l, v) in random_pairs(500, 2) {
                 let got = m.eval(&geom(dir(l.0, l.1), dir(v.0, v.1), Vec3::Z));
                 let expected = oren_nayar_reference(0.7, sigma, c, l, v);
@@ -144,7 +136,7 @@ fn full_oren_nayar_equals_the_published_formula_with_explicit_azimuths() {
         for interreflection in [true, false] {
             let m = model(
                 "oren_nayar_full",
-                &[("albedo", num(0.8)), ("sigma", num(sigma)), ("interreflection", flag(interreflection))],
+                &[("kd", num(0.8)), ("sigma", num(sigma)), ("interreflection", flag(interreflection))],
             );
             for (l, v) in random_pairs(500, 3) {
                 let got = m.eval(&geom(dir(l.0, l.1), dir(v.0, v.1), Vec3::Z));
@@ -163,10 +155,7 @@ fn the_interreflection_term_scales_with_albedo_squared() {
     // L2 ∝ ρ² (paper), not ρ (seed 004's slip): at normal view only C1 and L2 remain.
     let l2 = |rho: f64| {
         let on = |ir| {
-            model(
-                "oren_nayar_full",
-                &[("albedo", num(rho)), ("sigma", num(0.5)), ("interreflection", flag(ir))],
-            )
+            model("oren_nayar_full", &[("kd", num(rho)), ("sigma", num(0.5)), ("interreflection", flag(ir))])
         };
         let g = geom(dir(0.7, 0.0), Vec3::Z, Vec3::Z);
         f64::from(on(true).eval(&g).x - on(false).eval(&g).x)
@@ -180,8 +169,8 @@ fn the_interreflection_term_scales_with_albedo_squared() {
 #[test]
 fn oren_nayar_is_finite_and_continuous_at_normal_incidence() {
     let sigma = 0.8f64;
-    let qon = model("oren_nayar", &[("albedo", num(1.0)), ("sigma", num(sigma))]);
-    let full = model("oren_nayar_full", &[("albedo", num(1.0)), ("sigma", num(sigma))]);
+    let qon = model("oren_nayar", &[("kd", num(1.0)), ("sigma", num(sigma))]);
+    let full = model("oren_nayar_full", &[("kd", num(1.0)), ("sigma", num(sigma))]);
     let s2 = sigma * sigma;
     let a = 1.0 - 0.5 * s2 / (s2 + 0.33);
     let l2 = 0.17 * s2 / (s2 + 0.13);
@@ -204,7 +193,7 @@ fn oren_nayar_is_finite_and_continuous_at_normal_incidence() {
 
 #[test]
 fn full_oren_nayar_stays_positive_up_to_grazing_at_maximum_roughness() {
-    let full = model("oren_nayar_full", &[("albedo", num(1.0)), ("sigma", num(std::f64::consts::FRAC_PI_2))]);
+    let full = model("oren_nayar_full", &[("kd", num(1.0)), ("sigma", num(std::f64::consts::FRAC_PI_2))]);
     for i in 1..120 {
         for j in 1..120 {
             for k in 0..7 {
@@ -242,12 +231,12 @@ fn oren_nayar_albedos_match_the_research_notes() {
     for (sigma_deg, cos_v, printed) in rows {
         let sigma = num(sigma_deg.to_radians().min(std::f64::consts::FRAC_PI_2));
         let models = [
-            model("oren_nayar", &[("albedo", num(1.0)), ("sigma", sigma.clone())]),
+            model("oren_nayar", &[("kd", num(1.0)), ("sigma", sigma.clone())]),
             model(
                 "oren_nayar",
-                &[("albedo", num(1.0)), ("sigma", sigma.clone()), ("variant", text("compensated"))],
+                &[("kd", num(1.0)), ("sigma", sigma.clone()), ("variant", text("compensated"))],
             ),
-            model("oren_nayar_full", &[("albedo", num(1.0)), ("sigma", sigma)]),
+            model("oren_nayar_full", &[("kd", num(1.0)), ("sigma", sigma)]),
         ];
         for (m, p) in models.iter().zip(printed) {
             let rho = f64::from(directional_albedo(m, cos_v, &q).unwrap().x);
@@ -264,10 +253,8 @@ fn qualitative_albedo_at_normal_view_is_a() {
     // With v = n, β = 0 and f = ρA/π, so ρ(v) = ρA exactly.
     for sigma in [0.1f64, 0.35, 0.9, 1.5] {
         for (variant, c) in [("qualitative", 0.33), ("compensated", 0.57)] {
-            let m = model(
-                "oren_nayar",
-                &[("albedo", num(1.0)), ("sigma", num(sigma)), ("variant", text(variant))],
-            );
+            let m =
+                model("oren_nayar", &[("kd", num(1.0)), ("sigma", num(sigma)), ("variant", text(variant))]);
             let rho = f64::from(directional_albedo(&m, 1.0, &Quadrature::default()).unwrap().x);
             let a = 1.0 - 0.5 * sigma * sigma / (sigma * sigma + c);
             assert!((rho - a).abs() < 1e-6, "σ={sigma} {variant}: {rho} vs {a}");
@@ -295,7 +282,7 @@ fn physical_models_are_black_below_the_horizon() {
 #[test]
 fn classic_lambert_is_color_times_clamped_cosine() {
     let c = Vec3::new(0.9, 0.4, 0.1);
-    let m = model("lambert_classic", &[("color", Input::Numbers(vec![0.9, 0.4, 0.1]))]);
+    let m = model("lambert_classic", &[("kd", Input::Numbers(vec![0.9, 0.4, 0.1]))]);
     for (l, expected_cos) in [(dir(0.0, 0.0), 1.0f32), (dir(1.0, 0.3), 1.0f32.cos()), (dir(2.0, 0.0), 0.0)] {
         let g = geom(l, Vec3::Z, Vec3::Z);
         assert!((m.shade(&g) - c * expected_cos).abs().max_element() < 1e-6);
@@ -405,12 +392,12 @@ fn toon_diffuse_has_three_bands_with_half_open_edges() {
     let m = model(
         "toon",
         &[
-            ("diffuse_color", Input::Numbers(vec![0.8, 0.3, 0.2])),
-            ("diffuse_mid_color", Input::Numbers(vec![0.4, 0.2, 0.1])),
+            ("kd", Input::Numbers(vec![0.8, 0.3, 0.2])),
+            ("kd_mid", Input::Numbers(vec![0.4, 0.2, 0.1])),
             ("diffuse_threshold", num(0.5)),
             ("dark_threshold", num(0.07)),
             ("dark_scale", num(0.002)),
-            ("specular_color", num(0.0)),
+            ("ks", num(0.0)),
         ],
     );
     let (lit, mid, dark) =
@@ -431,10 +418,10 @@ fn toon_diffuse_has_three_bands_with_half_open_edges() {
 #[test]
 fn toon_specular_thresholds_v_dot_r_or_n_dot_h() {
     let base = [
-        ("diffuse_color", num(0.0)),
-        ("diffuse_mid_color", num(0.0)),
+        ("kd", num(0.0)),
+        ("kd_mid", num(0.0)),
         ("dark_scale", num(0.0)),
-        ("specular_color", Input::Numbers(vec![1.0, 0.9, 0.8])),
+        ("ks", Input::Numbers(vec![1.0, 0.9, 0.8])),
         ("specular_threshold", num(0.9)),
     ];
     let white = Vec3::new(1.0, 0.9, 0.8);

@@ -129,10 +129,7 @@ fn physical_cases() -> Vec<(String, Model)> {
         "lafortune aniso".into(),
         build(
             "lafortune",
-            &[
-                ("lobes", Input::Numbers(vec![-1.1, -0.7, 0.9, 12.0, 0.5, 0.5, 0.8, 3.0])),
-                ("rho_s", num(0.5)),
-            ],
+            &[("lobes", Input::Numbers(vec![-1.1, -0.7, 0.9, 12.0, 0.5, 0.5, 0.8, 3.0])), ("ks", num(0.5))],
         ),
     ));
     out
@@ -162,6 +159,7 @@ fn cook_torrance_albedo_matches_notes_b2_recomputed() {
         let model = build(
             "cook_torrance",
             &[
+                ("kd", num(0.0)),
                 ("distribution", text("beckmann")),
                 ("masking", text("v_groove")),
                 ("fresnel", text("none")),
@@ -181,6 +179,7 @@ fn cook_torrance_with_unit_fresnel_never_reflects_more_than_it_receives() {
                 let model = build(
                     "cook_torrance",
                     &[
+                        ("kd", num(0.0)),
                         ("distribution", text(d)),
                         ("masking", text(g)),
                         ("fresnel", text("none")),
@@ -218,20 +217,20 @@ fn smith_masks_less_than_v_groove_loses_energy_as_the_surface_roughens() {
 #[test]
 fn ward_ashikhmin_shirley_and_lafortune_conserve_energy_with_sensible_parameters() {
     let cases = [
-        ("ward walter", build("ward", &[("rho_d", num(0.3)), ("rho_s", num(0.6))])),
+        ("ward walter", build("ward", &[("kd", num(0.3)), ("ks", num(0.6))])),
         (
             "ward iso",
             build(
                 "ward",
-                &[("rho_d", num(0.2)), ("rho_s", num(0.7)), ("alpha_x", num(0.3)), ("alpha_y", num(0.3))],
+                &[("kd", num(0.2)), ("ks", num(0.7)), ("alpha_x", num(0.3)), ("alpha_y", num(0.3))],
             ),
         ),
-        ("ashikhmin_shirley", build("ashikhmin_shirley", &[("rd", num(0.8)), ("rs", num(0.2))])),
+        ("ashikhmin_shirley", build("ashikhmin_shirley", &[("kd", num(0.8)), ("ks", num(0.2))])),
         (
             "ashikhmin_shirley rough",
             build(
                 "ashikhmin_shirley",
-                &[("rd", num(0.9)), ("rs", num(0.5)), ("nu", num(5.0)), ("nv", num(2.0))],
+                &[("kd", num(0.9)), ("ks", num(0.5)), ("nu", num(5.0)), ("nv", num(2.0))],
             ),
         ),
         ("lafortune", build("lafortune", &[])),
@@ -280,10 +279,28 @@ impl Eval for CookTorrance {
 }
 
 #[test]
+fn cook_torrance_is_a_plastic_by_default_and_a_metal_preset_has_no_diffuse_unless_one_is_given() {
+    let spec = brdf_core::models::spec("cook_torrance").unwrap();
+    let kd = |inputs: &[(&str, Input)]| {
+        let owned: Vec<(String, Input)> = inputs.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+        brdf_core::Params::resolve(spec, &owned).unwrap().color("kd")
+    };
+    assert_eq!(kd(&[]), Vec3::new(0.5, 0.12, 0.08));
+    assert_eq!(kd(&[("metal", text("au"))]), Vec3::ZERO);
+    assert_eq!(kd(&[("metal", text("au")), ("kd", num(0.25))]), Vec3::splat(0.25));
+    assert_eq!(kd(&[("metal", text("none"))]), Vec3::new(0.5, 0.12, 0.08));
+    // The built model agrees with the resolved parameters (what Python reports as `params`).
+    let g = Geometry::new(Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 0.6, 0.8), Vec3::Z, None).unwrap();
+    let gold = build("cook_torrance", &[("metal", text("au"))]);
+    let gold_black = build("cook_torrance", &[("metal", text("au")), ("kd", num(0.0))]);
+    assert_eq!(gold.eval(&g), gold_black.eval(&g));
+}
+
+#[test]
 fn every_fresnel_choice_gives_the_metal_f0_at_normal_incidence() {
     let g = Geometry::new(Vec3::Z, Vec3::Z, Vec3::Z, None).unwrap();
     let f0 = fresnel::metal_f0_clamped("cu").unwrap();
-    let reference = build("cook_torrance", &[("fresnel", text("none"))]).eval(&g);
+    let reference = build("cook_torrance", &[("kd", num(0.0)), ("fresnel", text("none"))]).eval(&g);
     for f in ["schlick", "dielectric", "conductor", "color_shift"] {
         let m = build("cook_torrance", &[("fresnel", text(f)), ("metal", text("cu"))]);
         let ratio = m.eval(&g) / reference;
@@ -291,7 +308,7 @@ fn every_fresnel_choice_gives_the_metal_f0_at_normal_incidence() {
     }
     // Without a metal every default gives F0 = 0.04 (f0 = 0.04, ior = 1.5, eta = 1.5 with k = 0).
     for f in ["schlick", "dielectric", "conductor", "color_shift"] {
-        let ratio = build("cook_torrance", &[("fresnel", text(f))]).eval(&g) / reference;
+        let ratio = build("cook_torrance", &[("kd", num(0.0)), ("fresnel", text(f))]).eval(&g) / reference;
         assert!((ratio - Vec3::splat(0.04)).abs().max_element() < 1e-5, "{f}: {ratio}");
     }
 }
@@ -364,10 +381,10 @@ fn lafortune_phong_lobe_is_the_cosine_power_of_r_dot_v() {
 #[test]
 fn schlick_rational_power_is_exact_at_the_ends_and_close_between() {
     for n in [1.0f32, 10.0, 100.0] {
-        assert_eq!(schlick_power(0.0, n), 0.0);
-        assert_eq!(schlick_power(1.0, n), 1.0);
+        assert_eq!(schlick_power(0.0f32, n), 0.0);
+        assert_eq!(schlick_power(1.0f32, n), 1.0);
     }
-    assert!((schlick_power(0.5, 1.0) - 0.5).abs() < 1e-7, "n = 1 is exact");
+    assert!((schlick_power(0.5f32, 1.0) - 0.5).abs() < 1e-7, "n = 1 is exact");
     // Slightly wider highlight: above the true power in between.
     for s in [0.8f32, 0.9, 0.95, 0.99] {
         let (a, p) = (schlick_power(s, 50.0), s.powf(50.0));

@@ -1,16 +1,82 @@
-//! NumPy ↔ slices: zero-copy views of the inputs, one allocation for the output, and the checks that name
-//! the argument. The Python wrapper (`brdfpy/_arrays.py`) has already converted array-likes to C-contiguous
-//! float32; everything is checked again here so that a direct call into `_brdfpy` cannot misbehave either.
+//! NumPy ↔ brdf-core batches: zero-copy views of the inputs as [`Arg`]s, one allocation per output, and the
+//! one way a batch runs (GIL released and on the pool when large). The rules — broadcasting, checks,
+//! chunking, the messages — are `brdf_core::batch`'s, so Rust and Python users see the same ones.
+//!
+//! The Python wrapper (`brdfpy/_arrays.py`) has already converted array-likes to C-contiguous float32;
+//! the layout is checked again here so that a direct call into `_brdfpy` cannot misbehave either.
 
+use brdf_core::batch::{Arg, Shape, ShapeOf, check_out_shape, runs_in_parallel};
 use glam::Vec3;
-use numpy::{PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use pyo3::exceptions::PyTypeError;
+use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 
-use crate::errors::invalid;
-use crate::threads::RowError;
+use crate::errors::{invalid, to_py};
 
-/// A borrowed `(k, 3)` float32 C-contiguous array (k ≥ 1) viewed as `&[Vec3]`, without copying.
+/// A float32 array of any shape `(..., 3)` as directions (or colours) with its leading shape.
+pub fn vec3<'a>(name: &'static str, a: &'a PyReadonlyArrayDyn<'_, f32>) -> PyResult<Arg<'a, Vec3>> {
+    let shape = a.shape();
+    if shape.last() != Some(&3) {
+        return Err(invalid(format!(
+            "{name}: expected an array of shape (..., 3) (3-vectors along the last axis), got {}",
+            tuple(shape)
+        )));
+    }
+    let s = a
+        .as_slice()
+        .map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous float32 array")))?;
+    Arg::new(name, bytemuck::cast_slice(s), &shape[..shape.len() - 1]).map_err(to_py)
+}
+
+/// `x` as a float32 C-contiguous aligned NumPy array: `x` itself when it is one already (no copy and
+/// no Python-level call: the fixed cost of a small batch), else what `brdfpy._arrays.as_vectors`
+/// makes of it (dtype and layout converted once; its errors name `name`). Shapes are checked by the
+/// core ([`vec3`]).
+pub fn f32_array<'py>(name: &'static str, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+    if let Ok(a) = x.cast::<PyArrayDyn<f32>>() {
+        if a.is_c_contiguous() && a.is_aligned() {
+            return Ok(a.clone());
+        }
+    }
+    static AS_VECTORS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let convert = AS_VECTORS.import(x.py(), "brdfpy._arrays", "as_vectors")?;
+    Ok(convert.call1((name, x))?.cast_into::<PyArrayDyn<f32>>()?)
+}
+
+/// A read-only view of an input array (refused, naming it, while Rust code elsewhere writes to it).
+pub fn read<'py>(
+    name: &'static str,
+    a: &Bound<'py, PyArrayDyn<f32>>,
+) -> PyResult<PyReadonlyArrayDyn<'py, f32>> {
+    a.try_readonly().map_err(|_| invalid(format!("{name}: the array is being written elsewhere")))
+}
+
+/// An optional [`vec3`].
+pub fn vec3_opt<'a>(
+    name: &'static str,
+    a: &'a Option<PyReadonlyArrayDyn<'_, f32>>,
+) -> PyResult<Option<Arg<'a, Vec3>>> {
+    a.as_ref().map(|a| vec3(name, a)).transpose()
+}
+
+/// A float32 array of any shape as numbers.
+pub fn scalars<'a>(name: &'static str, a: &'a PyReadonlyArrayDyn<'_, f32>) -> PyResult<Arg<'a, f32>> {
+    let s = a
+        .as_slice()
+        .map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous float32 array")))?;
+    Arg::new(name, s, a.shape()).map_err(to_py)
+}
+
+fn tuple(shape: &[usize]) -> String {
+    match shape {
+        [x] => format!("({x},)"),
+        _ => format!("({})", shape.iter().map(|d| d.to_string()).collect::<Vec<_>>().join(", ")),
+    }
+}
+
+/// A borrowed `(k, 3)` float32 C-contiguous array (k ≥ 1) viewed as `&[Vec3]`, without copying (for the
+/// row-based APIs of the rasterizer and the ray caster).
 pub fn vec3_view<'a>(name: &str, a: &'a PyReadonlyArray2<'_, f32>) -> PyResult<&'a [Vec3]> {
     let shape = a.shape();
     if shape[1] != 3 {
@@ -28,144 +94,198 @@ pub fn vec3_view<'a>(name: &str, a: &'a PyReadonlyArray2<'_, f32>) -> PyResult<&
     Ok(bytemuck::cast_slice(s))
 }
 
-/// A borrowed float32 C-contiguous array of any shape as a flat slice (may be empty).
-pub fn flat_view<'a>(name: &str, a: &'a PyReadonlyArrayDyn<'_, f32>) -> PyResult<&'a [f32]> {
-    a.as_slice().map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous float32 array")))
-}
-
-/// `true` when every value is finite (brdf-core's vectorised check, AVX2 where the CPU has it).
-#[inline]
-pub fn all_finite(xs: &[f32]) -> bool {
-    brdf_core::batch::all_finite(xs)
-}
-
-/// Check that `rows` (starting at element `offset` of argument `name`) hold only finite numbers.
-#[inline]
-pub fn check_vec3(name: &'static str, rows: &[Vec3], offset: usize) -> Result<(), RowError> {
-    if all_finite(bytemuck::cast_slice(rows)) {
-        return Ok(());
-    }
-    let i = rows.iter().position(|r| !r.is_finite()).unwrap_or(0);
-    Err(RowError::non_finite_row(name, offset + i))
-}
-
-/// Check that `xs` (starting at element `offset` of argument `name`) are finite.
-#[inline]
-pub fn check_flat(name: &'static str, xs: &[f32], offset: usize) -> Result<(), RowError> {
-    if all_finite(xs) {
-        return Ok(());
-    }
-    let i = xs.iter().position(|x| !x.is_finite()).unwrap_or(0);
-    Err(RowError::non_finite_index(name, offset + i))
-}
-
-/// The part of an input that serves output elements `offset .. offset + len`: the same slice when it has
-/// one element (broadcast), else the matching sub-slice. Lengths are checked before any batch runs.
-#[inline]
-pub fn part<T>(xs: &[T], offset: usize, len: usize) -> &[T] {
-    if xs.len() == 1 { xs } else { &xs[offset..offset + len] }
-}
-
 /// Element `i` of a length-1 (broadcast) or full-length slice.
 #[inline(always)]
 pub fn at<T: Copy>(xs: &[T], i: usize) -> T {
     if xs.len() == 1 { xs[0] } else { xs[i] }
 }
 
-/// The common length of inputs that are each of length 1 or N (NumPy broadcasting of `(1, …)` and
-/// `(N, …)`), naming the first argument that does not fit.
-pub fn broadcast_len(inputs: &[(&str, usize)]) -> PyResult<usize> {
-    let n = inputs.iter().map(|(_, k)| *k).max().unwrap_or(0);
-    for (name, k) in inputs {
-        if *k != 1 && *k != n {
-            return Err(invalid(format!("{name}: has {k} elements, which does not broadcast against {n}")));
-        }
-    }
-    Ok(n)
+/// The common length of row inputs of lengths 1 or N, by `brdf_core::batch::broadcast` (naming the first
+/// that does not fit); `item` is each input's item shape for the message (`&[3]` for vectors).
+pub fn broadcast_rows(inputs: &[(&'static str, usize, &'static [usize])]) -> PyResult<usize> {
+    let shapes: Vec<Shape> = inputs.iter().map(|&(_, k, _)| Shape::rows(k)).collect();
+    let of: Vec<ShapeOf<'_>> =
+        inputs.iter().zip(&shapes).map(|(&(name, _, item), shape)| ShapeOf { name, shape, item }).collect();
+    brdf_core::batch::broadcast(&of).map(|s| s.len()).map_err(to_py)
 }
 
-/// A float32 array of `shape` (plus a trailing 3 when `rgb`) filled by `f` from the flat float32 input `x`
-/// element by element, with the GIL released and the pool used for large inputs. Every element of `x`
-/// must satisfy `valid` (else an error naming `name` and the index, saying `problem`).
-pub fn map_flat<'py>(
-    py: Python<'py>,
+/// A Rust element type of a batch output and the NumPy array that holds it: `Vec3` in a float32 array
+/// with a trailing axis of 3, numbers and flags in arrays of the batch's shape.
+pub trait OutElem: Sized + Send + 'static {
+    /// The NumPy element type.
+    type Np: numpy::Element + Send;
+    /// The item axis appended to the batch's shape.
+    const ITEM: &'static [usize];
+    /// The array's elements as `Self`.
+    fn cast(s: &mut [Self::Np]) -> &mut [Self];
+}
+
+impl OutElem for f32 {
+    type Np = f32;
+    const ITEM: &'static [usize] = &[];
+    fn cast(s: &mut [f32]) -> &mut [f32] {
+        s
+    }
+}
+
+impl OutElem for Vec3 {
+    type Np = f32;
+    const ITEM: &'static [usize] = &[3];
+    fn cast(s: &mut [f32]) -> &mut [Vec3] {
+        bytemuck::cast_slice_mut(s)
+    }
+}
+
+impl OutElem for u8 {
+    type Np = u8;
+    const ITEM: &'static [usize] = &[];
+    fn cast(s: &mut [u8]) -> &mut [u8] {
+        s
+    }
+}
+
+impl OutElem for bool {
+    type Np = bool;
+    const ITEM: &'static [usize] = &[];
+    fn cast(s: &mut [bool]) -> &mut [bool] {
+        s
+    }
+}
+
+/// A new NumPy array for a batch of `shape` with elements `T`. Allocated zeroed: NumPy takes large blocks
+/// from `calloc`, i.e. fresh zero pages, so this costs no pass over memory.
+pub fn new_array<'py, T: OutElem>(py: Python<'py>, shape: &Shape) -> Bound<'py, PyArrayDyn<T::Np>> {
+    PyArrayDyn::<T::Np>::zeros(py, shape.with_item(T::ITEM), false)
+}
+
+/// A caller's array (`out=`) to write a batch of `shape` into: of `T`'s NumPy type, exactly the batch's
+/// shape followed by `T`'s item axis (the core's rule, `batch::check_out_shape`), C-contiguous and
+/// writeable. Whether it overlaps an input is checked when it is borrowed for writing ([`fill`]).
+pub fn given_array<'py, T: OutElem>(
     name: &'static str,
-    x: &PyReadonlyArrayDyn<'py, f32>,
-    problem: &'static str,
-    valid: impl Fn(f32) -> bool + Send + Sync,
-    rgb: bool,
-    f: impl Fn(f32) -> glam::Vec3 + Send + Sync,
-) -> PyResult<Bound<'py, numpy::PyArrayDyn<f32>>> {
-    use numpy::PyArrayMethods;
-    let xs = flat_view(name, x)?;
-    let mut shape = x.shape().to_vec();
-    if rgb {
-        shape.push(3);
-    }
-    let out = numpy::PyArrayDyn::<f32>::zeros(py, shape, false);
-    {
-        let mut w = out.readwrite();
-        let o = w.as_slice_mut().map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-        let body = |offset: usize, input: &[f32]| -> Result<(), RowError> {
-            if !input.iter().fold(true, |ok, &c| ok & valid(c)) {
-                let i = input.iter().position(|&c| !valid(c)).unwrap_or(0);
-                return Err(RowError { row: offset + i, name, problem });
-            }
-            Ok(())
+    out: &Bound<'py, PyAny>,
+    shape: &Shape,
+) -> PyResult<Bound<'py, PyArrayDyn<T::Np>>> {
+    let dtype = numpy::dtype::<T::Np>(out.py());
+    let Ok(a) = out.cast::<PyArrayDyn<T::Np>>() else {
+        let what = match out.cast::<numpy::PyUntypedArray>() {
+            Ok(u) => format!("an array of dtype {}", u.dtype()),
+            Err(_) => out.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string()),
         };
-        if rgb {
-            let o: &mut [Vec3] = bytemuck::cast_slice_mut(o);
-            crate::threads::fill(py, o, |offset, chunk| {
-                let input = &xs[offset..offset + chunk.len()];
-                body(offset, input)?;
-                for (o, &c) in chunk.iter_mut().zip(input) {
-                    *o = f(c);
-                }
-                Ok(())
-            })?;
-        } else {
-            crate::threads::fill(py, o, |offset, chunk| {
-                let input = &xs[offset..offset + chunk.len()];
-                body(offset, input)?;
-                for (o, &c) in chunk.iter_mut().zip(input) {
-                    *o = f(c).x;
-                }
-                Ok(())
-            })?;
-        }
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected a numpy.ndarray of dtype {dtype}, got {what}"
+        )));
+    };
+    check_out_shape(name, shape, T::ITEM, a.shape()).map_err(to_py)?;
+    if !a.is_c_contiguous() {
+        return Err(invalid(format!("{name}: expected a C-contiguous array (e.g. from numpy.empty)")));
     }
-    Ok(out)
+    Ok(a.clone())
 }
 
-/// The skeleton of every batch evaluation over `(k, 3)` direction arrays broadcast to `len` rows: checks
-/// the broadcast (`k = 1`) inputs once, allocates the float32 `(len, 3)` output and fills it chunk by chunk
-/// through [`crate::threads::fill`] (GIL released for large batches). `body(offset, parts, chunk)` gets
-/// each input's part for the chunk (in the order of `inputs`) and checks the non-broadcast rows itself,
-/// where they are already in the cache.
-pub fn eval_rows<'py>(
-    py: Python<'py>,
-    inputs: &[(&'static str, &[Vec3])],
-    len: usize,
-    body: impl Fn(usize, &[&[Vec3]], &mut [Vec3]) -> Result<(), RowError> + Send + Sync,
-) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
-    use numpy::PyArrayMethods;
-    for &(name, rows) in inputs {
-        if rows.len() == 1 {
-            check_vec3(name, rows, 0).map_err(RowError::into_py)?;
-        }
+/// `f()` on the pool with the GIL released when a batch of `len` elements runs in parallel
+/// (`brdf_core::batch::runs_in_parallel`), else inline with the GIL held: releasing it and waking the
+/// pool cost more than a small batch.
+pub fn run<T: Send>(py: Python<'_>, len: usize, f: impl FnOnce() -> T + Send) -> PyResult<T> {
+    if !runs_in_parallel(len) {
+        return Ok(f());
     }
-    let out = numpy::PyArray2::<f32>::zeros(py, [len, 3], false);
-    {
-        let mut w = out.readwrite();
-        let slice = w.as_slice_mut().map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-        let o: &mut [Vec3] = bytemuck::cast_slice_mut(slice);
-        crate::threads::fill(py, o, |offset, chunk| {
-            let mut parts = [&[][..]; 4];
-            for (p, &(_, rows)) in parts.iter_mut().zip(inputs) {
-                *p = part(rows, offset, chunk.len());
+    let pool = crate::threads::pool()?;
+    Ok(py.detach(|| pool.install(f)))
+}
+
+/// The outputs of a batch: one [`OutElem`] or a tuple of them, with the NumPy arrays that hold them and
+/// the slices the core's batch writes (`brdf_core::batch::Outputs`).
+pub trait OutSet {
+    /// The NumPy arrays (one, or a tuple).
+    type Arrays<'py>;
+    /// Their write guards.
+    type Guards<'py>;
+    /// The slices into them (one, or a tuple): what the core's batch fills.
+    type Slices<'a>: Send;
+    /// New arrays for a batch of `shape` ([`new_array`]).
+    fn alloc<'py>(py: Python<'py>, shape: &Shape) -> Self::Arrays<'py>;
+    /// Borrow every array for writing; refused (naming `out`) when one is not writeable or overlaps an
+    /// array borrowed already, i.e. an input of the same call.
+    fn borrow<'py>(arrays: &Self::Arrays<'py>) -> PyResult<Self::Guards<'py>>;
+    /// The slices of the borrowed arrays.
+    fn slices<'a, 'py>(guards: &'a mut Self::Guards<'py>) -> PyResult<Self::Slices<'a>>;
+}
+
+fn borrow_one<'py, T: OutElem>(
+    a: &Bound<'py, PyArrayDyn<T::Np>>,
+) -> PyResult<numpy::PyReadwriteArrayDyn<'py, T::Np>> {
+    a.try_readwrite().map_err(|e| {
+        invalid(match e {
+            numpy::BorrowError::NotWriteable => "out: the array is read-only".to_string(),
+            _ => "out: overlaps an input of the same call (pass a separate array)".to_string(),
+        })
+    })
+}
+
+fn slice_of<'a, T: OutElem>(w: &'a mut numpy::PyReadwriteArrayDyn<'_, T::Np>) -> PyResult<&'a mut [T]> {
+    let s = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(T::cast(s))
+}
+
+impl<T: OutElem> OutSet for T {
+    type Arrays<'py> = Bound<'py, PyArrayDyn<T::Np>>;
+    type Guards<'py> = numpy::PyReadwriteArrayDyn<'py, T::Np>;
+    type Slices<'a> = &'a mut [T];
+    fn alloc<'py>(py: Python<'py>, shape: &Shape) -> Self::Arrays<'py> {
+        new_array::<T>(py, shape)
+    }
+    fn borrow<'py>(a: &Self::Arrays<'py>) -> PyResult<Self::Guards<'py>> {
+        borrow_one::<T>(a)
+    }
+    fn slices<'a, 'py>(g: &'a mut Self::Guards<'py>) -> PyResult<&'a mut [T]> {
+        slice_of::<T>(g)
+    }
+}
+
+macro_rules! out_set_tuple {
+    ($($t:ident $i:tt),+) => {
+        impl<$($t: OutElem),+> OutSet for ($($t,)+) {
+            type Arrays<'py> = ($(Bound<'py, PyArrayDyn<$t::Np>>,)+);
+            type Guards<'py> = ($(numpy::PyReadwriteArrayDyn<'py, $t::Np>,)+);
+            type Slices<'a> = ($(&'a mut [$t],)+);
+            fn alloc<'py>(py: Python<'py>, shape: &Shape) -> Self::Arrays<'py> {
+                ($(new_array::<$t>(py, shape),)+)
             }
-            body(offset, &parts[..inputs.len()], chunk)
-        })?;
-    }
-    Ok(out)
+            fn borrow<'py>(a: &Self::Arrays<'py>) -> PyResult<Self::Guards<'py>> {
+                Ok(($(borrow_one::<$t>(&a.$i)?,)+))
+            }
+            fn slices<'a, 'py>(g: &'a mut Self::Guards<'py>) -> PyResult<Self::Slices<'a>> {
+                Ok(($(slice_of::<$t>(&mut g.$i)?,)+))
+            }
+        }
+    };
+}
+out_set_tuple!(A 0, B 1);
+out_set_tuple!(A 0, B 1, C 2);
+out_set_tuple!(A 0, B 1, C 2, D 3);
+
+/// Fill `arrays` (new or a caller's) with a batch of `len` elements by `fill` (GIL released and on the
+/// pool when large, [`run`]) and map the core's error.
+pub fn fill<'py, T: OutSet>(
+    py: Python<'py>,
+    arrays: &T::Arrays<'py>,
+    len: usize,
+    fill: impl for<'a> FnOnce(T::Slices<'a>) -> Result<(), brdf_core::BrdfError> + Send,
+) -> PyResult<()> {
+    let mut guards = T::borrow(arrays)?;
+    let slices = T::slices(&mut guards)?;
+    run(py, len, || fill(slices))?.map_err(to_py)
+}
+
+/// The one path of a batch function: allocate the arrays of its outputs `T` (one [`OutElem`] or a tuple)
+/// for `shape`, fill them by `fill`, return them. E.g. `outputs::<(Vec3, bool)>(py, m.shape(), |o| m.run(o))`.
+pub fn outputs<'py, T: OutSet>(
+    py: Python<'py>,
+    shape: &Shape,
+    fill_with: impl for<'a> FnOnce(T::Slices<'a>) -> Result<(), brdf_core::BrdfError> + Send,
+) -> PyResult<T::Arrays<'py>> {
+    let arrays = T::alloc(py, shape);
+    fill::<T>(py, &arrays, shape.len(), fill_with)?;
+    Ok(arrays)
 }

@@ -8,19 +8,18 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::flat_view;
+use crate::arrays::{run, scalars};
 use crate::errors::{invalid, to_py};
 use crate::models::Model;
-use crate::threads::run;
 
 /// The largest number of random configurations a check accepts (about a minute of work).
 pub const MAX_SAMPLES: i64 = 100_000_000;
 
-fn samples(n: i64) -> PyResult<usize> {
-    if (1..=MAX_SAMPLES).contains(&n) {
-        Ok(n as usize)
+fn sample_count(samples: i64) -> PyResult<usize> {
+    if (1..=MAX_SAMPLES).contains(&samples) {
+        Ok(samples as usize)
     } else {
-        Err(invalid(format!("n: expected an integer in [1, {MAX_SAMPLES}], got {n}")))
+        Err(invalid(format!("samples: expected an integer in [1, {MAX_SAMPLES}], got {samples}")))
     }
 }
 
@@ -28,20 +27,21 @@ fn seed(s: i64) -> PyResult<u64> {
     u64::try_from(s).map_err(|_| invalid(format!("seed: expected an integer >= 0, got {s}")))
 }
 
-/// Smallest channel of `f_r` over `n` random configurations (seeded): ≥ 0 for a valid BRDF; NaN if the
-/// model returned a non-finite value.
+/// Smallest channel of `f_r` over `samples` random configurations (seeded): ≥ 0 for a valid BRDF; NaN if
+/// the model returned a non-finite value.
 #[pyfunction]
-#[pyo3(signature = (model, n=10_000, seed=0))]
-pub fn positivity(py: Python<'_>, model: &Bound<'_, Model>, n: i64, seed: i64) -> PyResult<f32> {
-    let (n, s, m) = (samples(n)?, self::seed(seed)?, model.get().core());
+#[pyo3(signature = (model, samples=10_000, seed=0))]
+pub fn positivity(py: Python<'_>, model: &Bound<'_, Model>, samples: i64, seed: i64) -> PyResult<f32> {
+    let (n, s, m) = (sample_count(samples)?, self::seed(seed)?, model.get().core());
     run(py, n, || props::positivity(m, n, s))
 }
 
-/// `max |f(l,v) − f(v,l)| / max(|f(l,v)|, |f(v,l)|, 1e-6)` over `n` random configurations (seeded).
+/// `max |f(l,v) − f(v,l)| / max(|f(l,v)|, |f(v,l)|, 1e-6)` over `samples` random configurations
+/// (seeded).
 #[pyfunction]
-#[pyo3(signature = (model, n=10_000, seed=0))]
-pub fn reciprocity_error(py: Python<'_>, model: &Bound<'_, Model>, n: i64, seed: i64) -> PyResult<f32> {
-    let (n, s, m) = (samples(n)?, self::seed(seed)?, model.get().core());
+#[pyo3(signature = (model, samples=10_000, seed=0))]
+pub fn reciprocity_error(py: Python<'_>, model: &Bound<'_, Model>, samples: i64, seed: i64) -> PyResult<f32> {
+    let (n, s, m) = (sample_count(samples)?, self::seed(seed)?, model.get().core());
     run(py, n, || props::reciprocity_error(m, n, s))
 }
 
@@ -56,10 +56,7 @@ pub fn directional_albedo<'py>(
     phi_order: i64,
     min_panel: f64,
 ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-    let cs = flat_view("cos_theta_v", &cos_theta_v)?;
-    if cs.is_empty() {
-        return Err(invalid("cos_theta_v: is empty"));
-    }
+    let cs = scalars("cos_theta_v", &cos_theta_v)?.data();
     if let Some(i) = cs.iter().position(|c| !(*c >= 0.0 && *c <= 1.0)) {
         return Err(invalid(format!("cos_theta_v: values must lie in [0, 1], got {} at index {i}", cs[i])));
     }
@@ -92,7 +89,7 @@ pub fn d_normalization(
     run(py, usize::MAX, || props::microfacet_normalization(|h| d.d(h), &q))?.map_err(to_py)
 }
 
-fn quadrature(theta_order: i64, phi_order: i64, min_panel: f64) -> PyResult<Quadrature> {
+pub(crate) fn quadrature(theta_order: i64, phi_order: i64, min_panel: f64) -> PyResult<Quadrature> {
     let order = |name: &str, k: i64| {
         usize::try_from(k).map_err(|_| invalid(format!("{name}: must be in [1, 64], got {k}")))
     };

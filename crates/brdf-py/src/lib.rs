@@ -12,11 +12,14 @@ mod fresnel;
 mod measured;
 mod microfacet;
 mod models;
+mod pickle;
 mod raster;
 mod raycast;
+mod sampling;
 mod threads;
 mod tonemap;
 mod vectors;
+mod views;
 
 /// The compiled module `brdfpy._brdfpy`; the public API is re-exported by `brdfpy/__init__.py`.
 #[pymodule]
@@ -40,13 +43,17 @@ mod _brdfpy {
     #[pymodule_export]
     use super::models::{Model, model_names, model_spec};
     #[pymodule_export]
+    use super::pickle::{_frame_from_state, _frame_state, _light_with_direction, _mesh_from_parts};
+    #[pymodule_export]
     use super::raster::{
-        RasterCamera, RasterFrame, RasterLight, RasterMesh, builtin_mesh, builtin_mesh_names, cube,
-        icosphere, load_mesh, load_mesh_bytes, open_box, plane, polygon_normal, raster_limits, render_scene,
-        torus,
+        RasterCamera, RasterEnvironment, RasterFrame, RasterLight, RasterMesh, builtin_mesh,
+        builtin_mesh_names, cube, icosphere, load_mesh, load_mesh_bytes, occlusion_cache_info, open_box,
+        plane, polygon_normal, raster_limits, render_scene, torus,
     };
     #[pymodule_export]
     use super::raycast::{RayCaster, mesh_obscurance};
+    #[pymodule_export]
+    use super::sampling::{chi2_test, model_pdf, model_sample, pdf_integral, uniform};
     #[pymodule_export]
     use super::threads::{_reset_after_fork, get_num_threads, set_num_threads};
     #[pymodule_export]
@@ -56,6 +63,11 @@ mod _brdfpy {
     };
     #[pymodule_export]
     use super::vectors::{halfway, reflect, refract};
+    #[pymodule_export]
+    use super::views::{
+        view_albedo, view_cell_angles, view_half_diff_slice, view_lit_sphere, view_lobe, view_polar,
+        view_quadrature,
+    };
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -2,9 +2,11 @@
 //! the tabulated BRDF as a Python object, the parameter fit, and the SH basis, quadrature, projection and
 //! reconstruction on float64 arrays. The Python modules `brdfpy.measured` and `brdfpy.sh` wrap these.
 
-use brdf_core::Geometry;
+use std::sync::Arc;
+
+use brdf_core::batch::{Batch, Directions, Quantity, evaluate_bxdf};
 use brdf_core::fit::{FitOptions, Sample};
-use brdf_core::measured::Tabulated as CoreTabulated;
+use brdf_core::measured::{Measured, Tabulated as CoreTabulated};
 use brdf_core::sh;
 use glam::{DVec3, Vec3};
 use numpy::{
@@ -14,24 +16,27 @@ use numpy::{
 use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use rayon::prelude::*;
 
-use crate::arrays::{at, broadcast_len, check_vec3, eval_rows, vec3_view};
+use crate::arrays::{outputs, run, vec3};
 use crate::errors::{invalid, to_py};
 use crate::models::{Model, to_inputs};
-use crate::threads::{RowError, run};
 
 /// An isotropic BRDF tabulated over Rusinkiewicz's (θ_h, θ_d, φ_d) on the MERL grid, looked up by
 /// trilinear interpolation.
 #[pyclass(frozen, module = "brdfpy._brdfpy")]
 pub struct Tabulated {
-    inner: CoreTabulated,
+    /// Shared (not copied) with the models made by `as_model` (a MERL table is 17.5 MB).
+    inner: Measured,
 }
 
 impl Tabulated {
-    /// The core table.
-    pub fn core(&self) -> &CoreTabulated {
+    /// The table as a model (shares the table).
+    pub fn measured(&self) -> &Measured {
         &self.inner
+    }
+
+    fn wrap(t: CoreTabulated) -> Self {
+        Self { inner: Measured(Arc::new(t)) }
     }
 }
 
@@ -53,7 +58,7 @@ impl Tabulated {
         let data: Vec<Vec3> = bytemuck::cast_slice::<f32, Vec3>(flat).to_vec();
         let dims = (shape[0], shape[1], shape[2]);
         let inner = run(py, data.len(), || CoreTabulated::new(dims, data))?.map_err(to_py)?;
-        Ok(Self { inner })
+        Ok(Self::wrap(inner))
     }
 
     /// Tabulate `model` at the nodes of a `(n_theta_h, n_theta_d, n_phi_d)` grid.
@@ -66,65 +71,53 @@ impl Tabulated {
         let m = model.core().clone();
         let work = resolution.0.saturating_mul(resolution.1).saturating_mul(resolution.2);
         let inner = run(py, work, || CoreTabulated::from_model(&m, resolution))?.map_err(to_py)?;
-        Ok(Self { inner })
+        Ok(Self::wrap(inner))
     }
 
     /// Parse the bytes of a MERL `.binary` file.
     #[staticmethod]
     fn from_merl_bytes(py: Python<'_>, data: &[u8]) -> PyResult<Self> {
         let inner = run(py, data.len(), || CoreTabulated::read_merl(data))?.map_err(to_py)?;
-        Ok(Self { inner })
+        Ok(Self::wrap(inner))
     }
 
     /// The table in the MERL `.binary` layout.
     fn to_merl_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         let mut out = Vec::new();
-        self.inner.write_merl(&mut out).map_err(to_py)?;
+        self.inner.0.write_merl(&mut out).map_err(to_py)?;
         Ok(PyBytes::new(py, &out))
     }
 
     /// `(n_theta_h, n_theta_d, n_phi_d)`.
     #[getter]
     fn shape(&self) -> (usize, usize, usize) {
-        self.inner.dims()
+        self.inner.0.dims()
     }
 
     /// A float32 copy of the values, shape `(n_theta_h, n_theta_d, n_phi_d, 3)`.
     #[getter]
     fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-        let (a, b, c) = self.inner.dims();
-        let flat: &[f32] = bytemuck::cast_slice(self.inner.data());
+        let (a, b, c) = self.inner.0.dims();
+        let flat: &[f32] = bytemuck::cast_slice(self.inner.0.data());
         PyArray1::from_slice(py, flat).reshape(vec![a, b, c, 3])
     }
 
-    /// Batch look-up: float32 C-contiguous `(k, 3)` arrays with k equal to 1 or N; returns `(N, 3)` f_r.
+    /// Batch look-up: float32 C-contiguous `(..., 3)` arrays whose leading shapes broadcast; returns the
+    /// broadcast shape followed by 3, `f_r` [1/sr].
     fn _eval<'py>(
         &self,
         py: Python<'py>,
-        l: PyReadonlyArray2<'py, f32>,
-        v: PyReadonlyArray2<'py, f32>,
-        n: PyReadonlyArray2<'py, f32>,
-    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
-        let len = broadcast_len(&[("l", ls.len()), ("v", vs.len()), ("n", ns.len())])?;
-        let t = &self.inner;
-        eval_rows(py, &[("l", ls), ("v", vs), ("n", ns)], len, |offset, parts, chunk| {
-            for (name, s) in ["l", "v", "n"].into_iter().zip(parts) {
-                if s.len() != 1 {
-                    check_vec3(name, s, offset)?;
-                }
-            }
-            let (cl, cv, cn) = (parts[0], parts[1], parts[2]);
-            for (i, out) in chunk.iter_mut().enumerate() {
-                *out =
-                    Geometry::new(at(cl, i), at(cv, i), at(cn, i), None).map_or(Vec3::ZERO, |g| t.eval(&g));
-            }
-            Ok(())
-        })
+        l: PyReadonlyArrayDyn<'py, f32>,
+        v: PyReadonlyArrayDyn<'py, f32>,
+        n: PyReadonlyArrayDyn<'py, f32>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let dirs =
+            Directions::from_args(vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, None).map_err(to_py)?;
+        outputs::<Vec3>(py, dirs.shape(), |out| evaluate_bxdf(&self.inner, &dirs, Quantity::Brdf, out))
     }
 
     fn __repr__(&self) -> String {
-        let (a, b, c) = self.inner.dims();
+        let (a, b, c) = self.inner.0.dims();
         format!("brdfpy.measured.Tabulated(shape=({a}, {b}, {c}))")
     }
 }
@@ -138,22 +131,18 @@ impl Tabulated {
 pub fn fit_model<'py>(
     py: Python<'py>,
     name: &str,
-    l: PyReadonlyArray2<'py, f32>,
-    v: PyReadonlyArray2<'py, f32>,
-    n: PyReadonlyArray2<'py, f32>,
-    values: PyReadonlyArray2<'py, f32>,
+    l: PyReadonlyArrayDyn<'py, f32>,
+    v: PyReadonlyArrayDyn<'py, f32>,
+    n: PyReadonlyArrayDyn<'py, f32>,
+    values: PyReadonlyArrayDyn<'py, f32>,
     start: &Bound<'py, PyDict>,
     fixed: Option<&Bound<'py, PyDict>>,
     max_iterations: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
-    let fs = vec3_view("values", &values)?;
-    let len = broadcast_len(&[("values", fs.len()), ("l", ls.len()), ("v", vs.len()), ("n", ns.len())])?;
-    for (name, s) in [("l", ls), ("v", vs), ("n", ns)] {
-        check_vec3(name, s, 0).map_err(RowError::into_py)?;
-    }
-    let samples: Vec<Sample> =
-        (0..len).map(|i| Sample { l: at(ls, i), v: at(vs, i), n: at(ns, i), f: at(fs, i) }).collect();
+    let b = Batch::new((vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3("values", &values)?))
+        .map_err(to_py)?;
+    let rows = b.map(|s: (Vec3, Vec3, Vec3, Vec3)| s).to_vec().map_err(to_py)?;
+    let samples: Vec<Sample> = rows.into_iter().map(|(l, v, n, f)| Sample { l, v, n, f }).collect();
     let (start, fixed) = (to_inputs(Some(start))?, to_inputs(fixed)?);
     let options = FitOptions { max_iterations, ..FitOptions::default() };
     let name = name.to_string();
@@ -210,12 +199,10 @@ pub fn sh_basis<'py>(
     let ds = dvec3_view("directions", &dirs)?;
     let nc = sh::num_coeffs(order);
     let out = PyArray2::<f64>::zeros(py, [ds.len(), nc], false);
-    if nc > 0 && !ds.is_empty() {
+    {
         let mut w = out.readwrite();
         let o = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        run(py, o.len(), || {
-            o.par_chunks_mut(nc).zip(ds.par_iter()).for_each(|(row, d)| sh::basis_into(*d, order, row))
-        })?;
+        run(py, o.len(), || sh::basis_rows(ds, order, o))?.map_err(to_py)?;
     }
     Ok(out)
 }

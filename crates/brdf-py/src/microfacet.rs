@@ -1,91 +1,28 @@
 //! `brdfpy.microfacet`: microfacet distributions D [1/sr], Smith Λ and G1, and shadowing-masking terms G
-//! over batches of directions. Thin loops over `brdf_core::microfacet` and `brdf_core::masking`. Every
-//! function takes the distribution as a list of lobes `(weight, name, alpha, alpha_y)` (one lobe of
-//! weight 1 for a plain distribution; several for a mixture, seed 001 "BRDF – mixture").
+//! over arrays of directions of shape `(..., 3)` (`brdf_core::batch::ops`). Every function takes the
+//! distribution as a list of lobes `(weight, name, alpha, alpha_y)` (one lobe of weight 1 for a plain
+//! distribution; several for a mixture).
 
-use brdf_core::ShadingFrame;
+use brdf_core::batch::ops;
 use brdf_core::masking::Masking;
-use brdf_core::microfacet::{Distribution, Mixture};
-use brdf_core::vector::normalize_or_zero;
-use glam::{Vec3, Vec3A};
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::PyRuntimeError;
+use brdf_core::microfacet::Mixture;
+use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 
-use crate::arrays::{at, broadcast_len, check_vec3, part, vec3_view};
-use crate::errors::{invalid, to_py};
-use crate::threads::{RowError, fill};
+use crate::arrays::{outputs, vec3, vec3_opt};
+use crate::errors::to_py;
 
 /// One lobe as Python passes it: (weight, distribution name, alpha, alpha_y).
 pub type Lobe = (f32, String, f32, Option<f32>);
 
+type Out<'py> = PyResult<Bound<'py, PyArrayDyn<f32>>>;
+type In<'py> = PyReadonlyArrayDyn<'py, f32>;
+
+/// The (mixture of) distribution(s) of `lobes`.
 pub fn mixture(lobes: &[Lobe]) -> PyResult<Mixture> {
-    if lobes.is_empty() {
-        return Err(invalid("lobes: expected at least one (weight, name, alpha) lobe"));
-    }
-    let built = lobes
-        .iter()
-        .map(|(w, name, a, ay)| Ok((*w, Distribution::from_name(name, *a, *ay).map_err(to_py)?)))
-        .collect::<PyResult<Vec<_>>>()?;
-    Mixture::new(&built).map_err(to_py)
-}
-
-/// The local frame at a sample: from the normal and, when given and not degenerate, the tangent.
-#[inline]
-fn frame(n: Vec3A, t: Option<Vec3>) -> ShadingFrame {
-    match t.map(|t| normalize_or_zero(t.into())) {
-        Some(t) if t != Vec3A::ZERO && t.cross(n).length_squared() > 1e-12 => {
-            ShadingFrame::from_normal_tangent(n, t)
-        }
-        _ => ShadingFrame::from_normal(n),
-    }
-}
-
-/// `out[i] = f(dirs[0][i], …)` (unit-normalised; 0 when any is zero-length) over broadcast `(k, 3)` inputs,
-/// plus an optional tangent, into a float32 `(N,)` array.
-fn map_dirs<'py>(
-    py: Python<'py>,
-    dirs: &[(&'static str, &[Vec3])],
-    tangent: Option<&[Vec3]>,
-    f: impl Fn(&[Vec3A; 3], Option<Vec3>) -> f32 + Send + Sync,
-) -> PyResult<Bound<'py, PyArray1<f32>>> {
-    let mut lens: Vec<(&str, usize)> = dirs.iter().map(|(n, s)| (*n, s.len())).collect();
-    if let Some(t) = tangent {
-        lens.push(("tangent", t.len()));
-    }
-    let len = broadcast_len(&lens)?;
-    let mut all: Vec<(&'static str, &[Vec3])> = dirs.to_vec();
-    if let Some(t) = tangent {
-        all.push(("tangent", t));
-    }
-    for (name, s) in &all {
-        if s.len() == 1 {
-            check_vec3(name, s, 0).map_err(RowError::into_py)?;
-        }
-    }
-    let out = PyArray1::<f32>::zeros(py, [len], false);
-    {
-        let mut w = out.readwrite();
-        let o = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        fill(py, o, |offset, chunk| {
-            let k = chunk.len();
-            for (name, s) in &all {
-                if s.len() > 1 {
-                    check_vec3(name, part(s, offset, k), offset)?;
-                }
-            }
-            for (i, o) in chunk.iter_mut().enumerate() {
-                let mut w = [Vec3A::ZERO; 3];
-                for (j, (_, s)) in dirs.iter().enumerate() {
-                    w[j] = normalize_or_zero(at(s, offset + i).into());
-                }
-                let degenerate = w[..dirs.len()].contains(&Vec3A::ZERO);
-                *o = if degenerate { 0.0 } else { f(&w, tangent.map(|t| at(t, offset + i))) };
-            }
-            Ok(())
-        })?;
-    }
-    Ok(out)
+    let l: Vec<(f32, &str, f32, Option<f32>)> =
+        lobes.iter().map(|(w, n, a, ay)| (*w, n.as_str(), *a, *ay)).collect();
+    ops::mixture(&l).map_err(to_py)
 }
 
 /// `D(h)` [1/sr] of a (mixture of) distribution(s), for half vectors `h` around normals `n`.
@@ -94,17 +31,14 @@ fn map_dirs<'py>(
 pub fn distribution<'py>(
     py: Python<'py>,
     lobes: Vec<Lobe>,
-    h: PyReadonlyArray2<'py, f32>,
-    n: PyReadonlyArray2<'py, f32>,
-    tangent: Option<PyReadonlyArray2<'py, f32>>,
-) -> PyResult<Bound<'py, PyArray1<f32>>> {
+    h: In<'py>,
+    n: In<'py>,
+    tangent: Option<In<'py>>,
+) -> Out<'py> {
     let d = mixture(&lobes)?;
-    let (hs, ns) = (vec3_view("h", &h)?, vec3_view("n", &n)?);
-    let ts = tangent.as_ref().map(|t| vec3_view("tangent", t)).transpose()?;
-    map_dirs(py, &[("h", hs), ("n", ns)], ts, |w, t| {
-        let local = frame(w[1], t).to_local(w[0]);
-        if local.z > 0.0 { d.d(local) } else { 0.0 }
-    })
+    let m = ops::distribution(&d, vec3("h", &h)?, vec3("n", &n)?, vec3_opt("tangent", &tangent)?)
+        .map_err(to_py)?;
+    outputs::<f32>(py, m.shape(), |o| m.run(o))
 }
 
 /// Smith `Λ(w)` (or `G1 = 1/(1 + Λ)` when `g1`) for directions `w` around normals `n`; `Λ = +inf`, `G1 = 0`
@@ -114,22 +48,15 @@ pub fn distribution<'py>(
 pub fn smith_lambda<'py>(
     py: Python<'py>,
     lobes: Vec<Lobe>,
-    w: PyReadonlyArray2<'py, f32>,
-    n: PyReadonlyArray2<'py, f32>,
-    tangent: Option<PyReadonlyArray2<'py, f32>>,
+    w: In<'py>,
+    n: In<'py>,
+    tangent: Option<In<'py>>,
     g1: bool,
-) -> PyResult<Bound<'py, PyArray1<f32>>> {
+) -> Out<'py> {
     let d = mixture(&lobes)?;
-    let (ws, ns) = (vec3_view("w", &w)?, vec3_view("n", &n)?);
-    let ts = tangent.as_ref().map(|t| vec3_view("tangent", t)).transpose()?;
-    map_dirs(py, &[("w", ws), ("n", ns)], ts, |x, t| {
-        let local = frame(x[1], t).to_local(x[0]);
-        if local.z <= 0.0 {
-            return if g1 { 0.0 } else { f32::INFINITY };
-        }
-        let lambda = d.lambda(local);
-        if g1 { 1.0 / (1.0 + lambda) } else { lambda }
-    })
+    let (w, n, t) = (vec3("w", &w)?, vec3("n", &n)?, vec3_opt("tangent", &tangent)?);
+    let m = ops::smith_lambda(&d, w, n, t, g1).map_err(to_py)?;
+    outputs::<f32>(py, m.shape(), |o| m.run(o))
 }
 
 /// Shadowing-masking `G(l, v)` (dimensionless) of the named term for a (mixture of) distribution(s).
@@ -139,21 +66,16 @@ pub fn masking<'py>(
     py: Python<'py>,
     name: &str,
     lobes: Vec<Lobe>,
-    l: PyReadonlyArray2<'py, f32>,
-    v: PyReadonlyArray2<'py, f32>,
-    n: PyReadonlyArray2<'py, f32>,
-    tangent: Option<PyReadonlyArray2<'py, f32>>,
-) -> PyResult<Bound<'py, PyArray1<f32>>> {
+    l: In<'py>,
+    v: In<'py>,
+    n: In<'py>,
+    tangent: Option<In<'py>>,
+) -> Out<'py> {
     let g = Masking::from_name(name).map_err(to_py)?;
     let d = mixture(&lobes)?;
-    let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
-    let ts = tangent.as_ref().map(|t| vec3_view("tangent", t)).transpose()?;
-    map_dirs(py, &[("l", ls), ("v", vs), ("n", ns)], ts, |w, t| {
-        let tangent = t
-            .map(|t| normalize_or_zero(t.into()))
-            .filter(|t| *t != Vec3A::ZERO && t.cross(w[2]).length_squared() > 1e-12);
-        g.g_world(w[0], w[1], w[2], tangent, &d)
-    })
+    let (l, v, n, t) = (vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3_opt("tangent", &tangent)?);
+    let m = ops::masking(g, &d, l, v, n, t).map_err(to_py)?;
+    outputs::<f32>(py, m.shape(), |o| m.run(o))
 }
 
 /// Names of the distributions and of the masking terms.

@@ -3,14 +3,14 @@
 
 use brdf_core::batch::{Directions, Quantity, evaluate_checked};
 use brdf_core::{Input, ModelSpec, ParamKind, ParamSpec, Params, Value};
-use numpy::{PyArray2, PyReadonlyArray2};
+use numpy::PyArrayDyn;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
-use crate::arrays::{eval_rows, vec3_view};
+use crate::arrays::{f32_array, fill, given_array, new_array, read, vec3, vec3_opt};
 use crate::errors::{invalid, to_py};
-use crate::threads::RowError;
+use glam::Vec3;
 
 /// Names of every registered model, in registry order.
 #[pyfunction]
@@ -218,7 +218,7 @@ impl Model {
                     "_table: only for Model(\"measured\", _table=...), with no other parameter",
                 ));
             }
-            let inner = brdf_core::Model::from(table.get().core().clone());
+            let inner = brdf_core::Model::Measured(table.get().measured().clone());
             let params = Params::resolve(inner.spec(), &[]).map_err(to_py)?;
             return Ok(Self { inner, params });
         }
@@ -263,36 +263,35 @@ impl Model {
         Ok(d)
     }
 
-    /// Batch evaluation: `l`, `v`, `n` (and `tangent`) are float32 C-contiguous `(k, 3)` arrays with k
-    /// equal to 1 or N. Returns float32 `(N, 3)`: `f_r` [1/sr], or the shade value when `shade` is true.
-    #[pyo3(signature = (l, v, n, tangent=None, shade=false))]
+    /// Batch evaluation: `l`, `v`, `n` (and `tangent`) are float32 C-contiguous arrays of shape
+    /// `(..., 3)` whose leading shapes broadcast together. Returns float32 of the broadcast shape
+    /// followed by 3: `f_r` [1/sr], or the shade value when `shade` is true; written into `out` when
+    /// given (a float32 C-contiguous array of exactly that shape, not overlapping an input), which is
+    /// then returned.
+    #[pyo3(signature = (l, v, n, tangent=None, shade=false, out=None))]
     fn _eval<'py>(
         &self,
         py: Python<'py>,
-        l: PyReadonlyArray2<'py, f32>,
-        v: PyReadonlyArray2<'py, f32>,
-        n: PyReadonlyArray2<'py, f32>,
-        tangent: Option<PyReadonlyArray2<'py, f32>>,
+        l: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        n: &Bound<'py, PyAny>,
+        tangent: Option<&Bound<'py, PyAny>>,
         shade: bool,
-    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let (ls, vs, ns) = (vec3_view("l", &l)?, vec3_view("v", &v)?, vec3_view("n", &n)?);
-        let ts = tangent.as_ref().map(|t| vec3_view("tangent", t)).transpose()?;
-        // Checks lengths and broadcasting, naming the argument that does not fit.
-        let (_, len) = Directions::new(ls, vs, ns, ts).map_err(to_py)?;
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let (l, v, n) = (f32_array("l", l)?, f32_array("v", v)?, f32_array("n", n)?);
+        let t = tangent.map(|t| f32_array("tangent", t)).transpose()?;
+        let (l, v, n) = (read("l", &l)?, read("v", &v)?, read("n", &n)?);
+        let t = t.as_ref().map(|t| read("tangent", t)).transpose()?;
+        let (l, v, n, t) = (vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3_opt("tangent", &t)?);
+        let dirs = Directions::from_args(l, v, n, t).map_err(to_py)?;
         let q = if shade { Quantity::Shade } else { Quantity::Brdf };
-        let mut inputs = vec![("l", ls), ("v", vs), ("n", ns)];
-        inputs.extend(ts.map(|t| ("tangent", t)));
-        let model = &self.inner;
-        eval_rows(py, &inputs, len, |offset, parts, chunk| {
-            // Lengths are consistent by construction (checked above), so this cannot fail. The
-            // finiteness check runs inside the evaluation, on the rows already loaded (broadcast
-            // inputs were checked once by `eval_rows`, so any row it reports is a chunk row).
-            match Directions::new(parts[0], parts[1], parts[2], parts.get(3).copied()) {
-                Ok((dirs, _)) => evaluate_checked(model, &dirs, q, chunk)
-                    .map_err(|e| RowError::non_finite_row(e.name, offset + e.row)),
-                Err(_) => Ok(()),
-            }
-        })
+        let out = match out {
+            Some(o) => given_array::<Vec3>("out", o, dirs.shape())?,
+            None => new_array::<Vec3>(py, dirs.shape()),
+        };
+        fill::<Vec3>(py, &out, dirs.len(), |o| evaluate_checked(&self.inner, &dirs, q, o))?;
+        Ok(out)
     }
 
     /// The table of a measured model, float32 `(n_theta_h, n_theta_d, n_phi_d, 3)` (for pickling);

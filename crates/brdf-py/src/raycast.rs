@@ -4,7 +4,7 @@
 //!   closest-hit and any-hit queries for NumPy batches of rays, and obscurance `w` at arbitrary points
 //!   against everything in it.
 //! - [`mesh_obscurance`]: per-vertex `w` of a mesh against itself (`Mesh.compute_obscurance`; renders
-//!   use stored values through `SceneOcclusion::with_stored`, see `raster.rs`).
+//!   use stored values through `SceneOcclusion::with_stored`, see `raster/render.rs`).
 //!
 //! Every call checks its arguments (naming them), then runs with the GIL released on the bindings'
 //! pool (`threads.rs`). Each ray and each point is answered independently (rays by the BVH alone,
@@ -22,7 +22,7 @@ use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{at, broadcast_len, vec3_view};
+use crate::arrays::{at, broadcast_rows, vec3_view};
 use crate::errors::invalid;
 use crate::raster::{RasterMesh, raster_err};
 use crate::threads::pool;
@@ -46,9 +46,9 @@ fn ao_options(tau: f64, d_max: f64, samples: i64, seed: u64) -> PyResult<AoOptio
     Ok(opts)
 }
 
-/// Per-vertex obscurance `w` (seed 004 eq. 12.72, μ normalised to `d_max`: see `brdf_raster::ao`) of
-/// `mesh` against itself, in the mesh's own coordinates: float32 `(V,)` in [0, 1]. Vertex `i` uses
-/// the sample pattern keyed by `(seed, i)`.
+/// Per-vertex obscurance `w` (Zhukov, Iones & Kronin 1998; Theoharis et al. 2008 eq. 12.72, μ
+/// normalised to `d_max`: see `brdf_raster::ao`) of `mesh` against itself, in the mesh's own
+/// coordinates: float32 `(V,)` in [0, 1]. Vertex `i` uses the sample pattern keyed by `(seed, i)`.
 #[pyfunction]
 #[pyo3(signature = (mesh, tau, d_max, samples, seed))]
 pub fn mesh_obscurance<'py>(
@@ -97,11 +97,11 @@ fn rays(
     if lo.is_empty() || hi.is_empty() {
         return Err(invalid("t_min, t_max: must not be empty"));
     }
-    let n = broadcast_len(&[
-        ("origins", o.len()),
-        ("directions", d.len()),
-        ("t_min", lo.len()),
-        ("t_max", hi.len()),
+    let n = broadcast_rows(&[
+        ("origins", o.len(), &[3]),
+        ("directions", d.len(), &[3]),
+        ("t_min", lo.len(), &[]),
+        ("t_max", hi.len(), &[]),
     ])?;
     if let Some(i) = o.iter().position(|p| !p.is_finite()) {
         return Err(invalid(format!("origins: row {i} is not finite: {}", o[i])));

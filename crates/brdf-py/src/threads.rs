@@ -2,8 +2,8 @@
 //!
 //! The pool belongs to the bindings (not rayon's global pool) so that `brdfpy.set_num_threads(n)` can
 //! replace it at any time; tests use that to show that results are bit-identical at 1, 2 and 4 threads.
-//! Batches are split into fixed chunks of [`CHUNK`] elements and every output element depends only on
-//! its own inputs, so the split, and hence the result, does not depend on the thread count.
+//! How a batch is split (fixed chunks, independent of the thread count) and when it goes parallel is
+//! `brdf_core::batch`'s rule; `arrays::run` releases the GIL exactly then and installs this pool.
 //!
 //! The pool lock is only ever taken while attached to the interpreter (holding the GIL) and never held
 //! across `py.detach`, so a `fork()` (which Python performs while attached) cannot happen while another
@@ -14,16 +14,10 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
-use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use crate::errors::invalid;
 
-/// Elements per parallel task (inputs and output of a chunk stay in the L2 cache).
-pub const CHUNK: usize = 8 * 1024;
-/// Batches shorter than this run on the calling thread with the GIL held: releasing the GIL and waking
-/// the pool cost more than they save (blake3-py's `GIL_MINSIZE` idea).
-pub const DETACH_MIN: usize = 4 * 1024;
 /// The largest thread count `set_num_threads` accepts.
 pub const MAX_THREADS: usize = 1024;
 
@@ -85,77 +79,4 @@ pub fn _reset_after_fork() {
         // Dropping would ask worker threads that do not exist in this process to stop; leak it instead.
         std::mem::forget(p);
     }
-}
-
-/// A problem found in an input element while a batch runs (reported for the lowest such element).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct RowError {
-    /// Index of the offending element (row of an `(N, 3)` array, flat index of a scalar array).
-    pub row: usize,
-    /// The argument it belongs to.
-    pub name: &'static str,
-    /// What is wrong with it, ending in the word before the element's number ("row", "index").
-    pub problem: &'static str,
-}
-
-impl RowError {
-    /// A non-finite value in row `row` of the `(N, 3)` argument `name`.
-    pub fn non_finite_row(name: &'static str, row: usize) -> Self {
-        Self {
-            row,
-            name,
-            problem: "contains a non-finite value (NaN or inf, or beyond the float32 range) at row",
-        }
-    }
-
-    /// A non-finite value at flat index `i` of the argument `name`.
-    pub fn non_finite_index(name: &'static str, i: usize) -> Self {
-        Self {
-            row: i,
-            name,
-            problem: "contains a non-finite value (NaN or inf, or beyond the float32 range) at index",
-        }
-    }
-
-    /// The Python exception (`BrdfError`, a `ValueError`) naming the argument and the element.
-    pub fn into_py(self) -> PyErr {
-        invalid(format!("{}: {} {}", self.name, self.problem, self.row))
-    }
-}
-
-/// Fill `out` by `body(offset, chunk)` over consecutive chunks of at most [`CHUNK`] elements: inline for
-/// small batches, else with the GIL released and the chunks spread over the pool. Checking inputs inside
-/// `body` keeps the check in the cache-resident chunk instead of a separate pass over memory. A chunk's
-/// `Err` stops nothing (other chunks may be running) but the error of the lowest element is raised, so
-/// the message does not depend on the thread count either.
-pub fn fill<T: Send>(
-    py: Python<'_>,
-    out: &mut [T],
-    body: impl Fn(usize, &mut [T]) -> Result<(), RowError> + Send + Sync,
-) -> PyResult<()> {
-    let result = if out.len() < DETACH_MIN {
-        out.chunks_mut(CHUNK).enumerate().try_for_each(|(c, chunk)| body(c * CHUNK, chunk))
-    } else {
-        let pool = pool()?;
-        py.detach(|| {
-            pool.install(|| {
-                out.par_chunks_mut(CHUNK)
-                    .enumerate()
-                    .filter_map(|(c, chunk)| body(c * CHUNK, chunk).err())
-                    .min_by_key(|e| e.row)
-                    .map_or(Ok(()), Err)
-            })
-        })
-    };
-    result.map_err(RowError::into_py)
-}
-
-/// Run `f` on the pool with the GIL released (for core functions that split their own work with rayon,
-/// such as the BRDF checks); inline when `len` is small.
-pub fn run<T: Send>(py: Python<'_>, len: usize, f: impl FnOnce() -> T + Send) -> PyResult<T> {
-    if len < DETACH_MIN {
-        return Ok(f());
-    }
-    let pool = pool()?;
-    Ok(py.detach(|| pool.install(f)))
 }

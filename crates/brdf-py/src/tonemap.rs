@@ -1,102 +1,66 @@
 //! `brdfpy.tonemap`: clamp, the HDR operators, exposure, sRGB and 8-bit encoding over arrays of any shape,
-//! channel by channel. Thin loops over `brdf_core::tonemap`, which maps NaN and negative values to 0 and
-//! `+inf` to the largest float (an image with one bad pixel still saves), so these functions accept any
-//! float input.
+//! channel by channel (`brdf_core::batch::ops`, over `brdf_core::tonemap`, which maps NaN and negative
+//! values to 0 and `+inf` to the largest float, so these functions accept any float input).
 
+use brdf_core::batch::ops;
 use brdf_core::tonemap::{self as tm, Operator};
-use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use pyo3::exceptions::PyRuntimeError;
+use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 
-use crate::arrays::flat_view;
-use crate::errors::{invalid, to_py};
-use crate::threads::fill;
+use crate::arrays::{outputs, scalars};
+use crate::errors::to_py;
 
-/// `out[i] = f(x[i])` over a float32 array of any shape, output of the same shape.
-fn map<'py, T: numpy::Element + Copy + Send>(
-    py: Python<'py>,
-    name: &str,
-    x: &PyReadonlyArrayDyn<'py, f32>,
-    f: impl Fn(f32) -> T + Send + Sync,
-) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
-    let xs = flat_view(name, x)?;
-    let out = PyArrayDyn::<T>::zeros(py, x.shape(), false);
-    {
-        let mut w = out.readwrite();
-        let o = w.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        fill(py, o, |offset, chunk| {
-            for (k, o) in chunk.iter_mut().enumerate() {
-                *o = f(xs[offset + k]);
-            }
-            Ok(())
-        })?;
-    }
-    Ok(out)
+type In<'py> = PyReadonlyArrayDyn<'py, f32>;
+type Out<'py> = PyResult<Bound<'py, PyArrayDyn<f32>>>;
+
+/// `f` per value of `x`, output of the same shape.
+fn map<'py>(py: Python<'py>, x: &In<'py>, f: fn(f32) -> f32) -> Out<'py> {
+    let m = ops::tonemap(scalars("x", x)?, f).map_err(to_py)?;
+    outputs::<f32>(py, m.shape(), |o| m.run(o))
 }
 
-/// Clamp to `[0, 1]` (seed 000); NaN → 0.
+/// Clamp to `[0, 1]`; NaN → 0.
 #[pyfunction]
-pub fn clamp<'py>(py: Python<'py>, x: PyReadonlyArrayDyn<'py, f32>) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    map(py, "x", &x, tm::clamp_f32)
+pub fn clamp<'py>(py: Python<'py>, x: In<'py>) -> Out<'py> {
+    map(py, &x, tm::clamp_f32)
 }
 
 /// Reinhard et al. 2002: `x / (1 + x)`.
 #[pyfunction]
-pub fn reinhard<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArrayDyn<'py, f32>,
-) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    map(py, "x", &x, tm::reinhard_f32)
+pub fn reinhard<'py>(py: Python<'py>, x: In<'py>) -> Out<'py> {
+    map(py, &x, tm::reinhard_f32)
 }
 
 /// Extended Reinhard: `x (1 + x/w²) / (1 + x)`, clamped to 1 (`x = w` maps to 1).
 #[pyfunction]
-pub fn reinhard_extended<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArrayDyn<'py, f32>,
-    white: f32,
-) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    if !(white > 0.0 && white.is_finite()) {
-        return Err(invalid(format!("white: must be finite and > 0, got {white}")));
-    }
-    map(py, "x", &x, move |c| tm::reinhard_extended_f32(c, white))
+pub fn reinhard_extended<'py>(py: Python<'py>, x: In<'py>, white: f32) -> Out<'py> {
+    let m = ops::reinhard_extended(scalars("x", &x)?, white).map_err(to_py)?;
+    outputs::<f32>(py, m.shape(), |o| m.run(o))
 }
 
 /// Narkowicz's ACES filmic fit.
 #[pyfunction]
-pub fn aces<'py>(py: Python<'py>, x: PyReadonlyArrayDyn<'py, f32>) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    map(py, "x", &x, tm::aces_f32)
+pub fn aces<'py>(py: Python<'py>, x: In<'py>) -> Out<'py> {
+    map(py, &x, tm::aces_f32)
 }
 
 /// `x · 2^ev`.
 #[pyfunction]
-pub fn exposure<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArrayDyn<'py, f32>,
-    ev: f32,
-) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    if !ev.is_finite() {
-        return Err(invalid(format!("ev: must be finite, got {ev}")));
-    }
-    map(py, "x", &x, move |c| tm::exposure(glam::Vec3::splat(c), ev).x)
+pub fn exposure<'py>(py: Python<'py>, x: In<'py>, ev: f32) -> Out<'py> {
+    let m = ops::exposure(scalars("x", &x)?, ev).map_err(to_py)?;
+    outputs::<f32>(py, m.shape(), |o| m.run(o))
 }
 
 /// sRGB OETF (IEC 61966-2-1) after clamping to `[0, 1]`.
 #[pyfunction]
-pub fn srgb_encode<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArrayDyn<'py, f32>,
-) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    map(py, "x", &x, tm::srgb_encode_f32)
+pub fn srgb_encode<'py>(py: Python<'py>, x: In<'py>) -> Out<'py> {
+    map(py, &x, tm::srgb_encode_f32)
 }
 
 /// Inverse sRGB OETF after clamping to `[0, 1]`.
 #[pyfunction]
-pub fn srgb_decode<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArrayDyn<'py, f32>,
-) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    map(py, "x", &x, tm::srgb_decode_f32)
+pub fn srgb_decode<'py>(py: Python<'py>, x: In<'py>) -> Out<'py> {
+    map(py, &x, tm::srgb_decode_f32)
 }
 
 /// `floor(255 · srgb_encode(op(x)) + 0.5)` as uint8, per channel.
@@ -104,12 +68,12 @@ pub fn srgb_decode<'py>(
 #[pyo3(signature = (x, operator="clamp", white=None))]
 pub fn to_uint8<'py>(
     py: Python<'py>,
-    x: PyReadonlyArrayDyn<'py, f32>,
+    x: In<'py>,
     operator: &str,
     white: Option<f32>,
 ) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
-    let op = Operator::from_name(operator, white).map_err(to_py)?;
-    map(py, "x", &x, move |c| tm::to_u8(tm::srgb_encode_f32(op.apply(glam::Vec3::splat(c)).x)))
+    let m = ops::to_uint8(scalars("x", &x)?, operator, white).map_err(to_py)?;
+    outputs::<u8>(py, m.shape(), |o| m.run(o))
 }
 
 /// Names of the tone-mapping operators `to_uint8` accepts.

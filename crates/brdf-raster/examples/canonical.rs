@@ -1,7 +1,10 @@
 //! Render SCENE.md's canonical scene, print the median frame time at 1 and 2 threads, write a PPM.
 //!
-//! `cargo run --release -p brdf-raster --example canonical -- [level] [width] [height] [frames] [out.ppm] [threads,...] [shading]`
-//! (defaults: 7 1920 1080 10 canonical.ppm 1,2 phong; shading: flat, gouraud, phong, quadratic). View the PPM with any image viewer, or convert it with
+//! `cargo run --release -p brdf-raster --example canonical -- [level] [width] [height] [frames] [out.ppm] [threads,...] [shading] [outputs] [samples]`
+//! (defaults: 7 1920 1080 10 canonical.ppm 1,2 phong buffers 1; shading: flat, gouraud, phong, quadratic;
+//! samples per pixel: 1, 4, 9 or 16;
+//! outputs: `buffers` (the Rust default: hdr, depth, normal, triangle_id) or names joined by commas,
+//! e.g. `rgb,depth`, what a Python `Scene.render` writes by default). View the PPM with any image viewer, or convert it with
 //! `python -c "from PIL import Image; Image.open('canonical.ppm').save('canonical.png')"`.
 
 use std::time::Instant;
@@ -49,10 +52,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = arg(4, "canonical.ppm");
     let thread_counts: Vec<usize> = arg(5, "1,2").split(',').map(str::parse).collect::<Result<_, _>>()?;
     let shading = brdf_raster::ShadingMode::from_name(&arg(6, "phong"))?;
+    let outputs = match arg(7, "buffers").as_str() {
+        "buffers" => brdf_raster::render::Outputs::BUFFERS,
+        names => brdf_raster::render::Outputs::from_names(names.split(','))?,
+    };
+
+    let samples_per_pixel: u32 = arg(8, "1").parse()?;
 
     let scene = canonical_scene(level)?;
     let camera = canonical_camera();
-    let options = RenderOptions { shading, ..RenderOptions::new(width, height) };
+    let options = RenderOptions { shading, outputs, samples_per_pixel, ..RenderOptions::new(width, height) };
     println!("icosphere({level}): {} triangles, {width}×{height}", scene.face_count());
 
     // Each configuration: one warm-up frame, then `frames` timed ones, (a) `render` allocating a new

@@ -1,4 +1,5 @@
-//! Ambient obscurance `w(p)` exactly as seed 004 defines it (eq. 12.71–12.74; Zhukov, Iones & Kronin
+//! Ambient obscurance `w(p)` exactly as Theoharis et al. 2008 define it (eqs. 12.71–12.74; Zhukov, Iones &
+//! Kronin
 //! 1998, "An ambient light illumination model"; Iones et al. 2003, "Fast, realistic lighting for video
 //! games"), estimated by casting rays into a [`Bvh`].
 //!
@@ -58,7 +59,7 @@ use crate::{Mesh, RasterError};
 /// typo like 10⁹ would otherwise run for hours).
 pub const MAX_SAMPLES: u32 = 1 << 16;
 
-/// Parameters of the obscurance estimate (seed 004 eq. 12.72–12.74).
+/// Parameters of the obscurance estimate (Theoharis et al. 2008 eq. 12.72–12.74).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AoOptions {
     /// τ > 0 of `μ(x) = 1 − e^(−τx)` (dimensionless, since x = d/d_max).
@@ -104,14 +105,57 @@ impl AoOptions {
 
 /// The normalised obscurance function of the module docs:
 /// `μ(d) = (1 − e^(−τ d/d_max)) / (1 − e^(−τ))` for `0 ≤ d < d_max`, 1 for `d ≥ d_max` (and for ∞).
-/// Dimensionless, in [0, 1]. Needs τ > 0 and `d_max` > 0 (see [`AoOptions::validate`]).
+/// Dimensionless, in [0, 1]. Needs τ > 0 and `d_max` > 0 (see [`AoOptions::validate`]); as τ → 0 it
+/// tends to `d/d_max`, which is what it gives for τ too small for float32 (τ = 10⁻⁴⁵ was 0/0).
 #[inline]
 pub fn mu(d: f32, tau: f32, d_max: f32) -> f32 {
     if d >= d_max {
         return 1.0;
     }
-    // exp_m1 keeps precision for small τx, where 1 − e^(−τx) ≈ τx.
-    ((-tau * d.max(0.0) / d_max).exp_m1() / (-tau).exp_m1()).clamp(0.0, 1.0)
+    let d = d.max(0.0);
+    match Normalisation::new(tau) {
+        // exp_m1 keeps precision for small τx, where 1 − e^(−τx) ≈ τx.
+        Normalisation::Exponential { .. } => ((-tau * d / d_max).exp_m1() / (-tau).exp_m1()).clamp(0.0, 1.0),
+        linear => linear.mu(d, d_max),
+    }
+}
+
+/// `μ(d)` at a fixed τ, its normalisation computed once.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Normalisation {
+    /// `μ = expm1(−τ d/d_max) · inv` with `inv = 1 / expm1(−τ)` (both factors negative).
+    Exponential { tau: f32, inv: f32 },
+    /// τ below [`Normalisation::LINEAR_BELOW`]: `μ = x (1 − τx/2) / (1 − τ/2)`, `x = d/d_max`, the series of the
+    /// exponential form to first order in τ (relative error below τ²/6, i.e. < 2·10⁻⁹ there), which
+    /// has no overflow in `1/expm1(−τ)` and no 0/0 as τ → 0.
+    Linear { tau: f32 },
+}
+
+impl Normalisation {
+    /// Where the series takes over: `1/expm1(−τ)` is still exact here, and the series error is far
+    /// below float32 rounding.
+    const LINEAR_BELOW: f32 = 1e-4;
+
+    pub(crate) fn new(tau: f32) -> Self {
+        if tau < Self::LINEAR_BELOW {
+            Normalisation::Linear { tau }
+        } else {
+            Normalisation::Exponential { tau, inv: 1.0 / (-tau).exp_m1() }
+        }
+    }
+
+    /// `μ(d)` for `0 ≤ d < d_max` (clamped to [0, 1]).
+    #[inline]
+    pub(crate) fn mu(self, d: f32, d_max: f32) -> f32 {
+        let m = match self {
+            Normalisation::Exponential { tau, inv } => (-tau * d / d_max).exp_m1() * inv,
+            Normalisation::Linear { tau } => {
+                let x = d / d_max;
+                x * (1.0 - 0.5 * tau * x) / (1.0 - 0.5 * tau)
+            }
+        };
+        m.clamp(0.0, 1.0)
+    }
 }
 
 /// The scene-independent part of the estimator: options, sample pattern, normalisation and offset.
@@ -120,8 +164,8 @@ pub(crate) struct Sampler {
     opts: AoOptions,
     /// Hammersley points `(k/S, Φ₂(k))`.
     pattern: Vec<[f32; 2]>,
-    /// `1 / (e^(−τ) − 1)`: μ(d) = expm1(−τd/d_max) · inv_norm (both factors negative).
-    inv_norm: f32,
+    /// μ as a function of `d/d_max`.
+    norm: Normalisation,
     offset: f32,
 }
 
@@ -132,7 +176,7 @@ impl Sampler {
         let s = opts.samples;
         let pattern = (0..s).map(|k| [k as f32 / s as f32, radical_inverse_2(k)]).collect();
         let offset = (bvh.coordinate_scale() * (1.0 / 65536.0)).max(1e-4 * opts.d_max);
-        Ok(Self { opts: *opts, pattern, inv_norm: 1.0 / (-opts.tau).exp_m1(), offset })
+        Ok(Self { opts: *opts, pattern, norm: Normalisation::new(opts.tau), offset })
     }
 
     /// `w(p)` against `bvh` (the one the sampler was made for); see [`Obscurance::at`].
@@ -146,7 +190,7 @@ impl Sampler {
         let (t, b) = orthonormal_basis(n);
         let origin = Vec3A::from(p) + n * self.offset;
         let (r1, r2) = rotation(self.opts.seed, key);
-        let (tau, d_max) = (self.opts.tau, self.opts.d_max);
+        let d_max = self.opts.d_max;
         let mut sum = 0.0f32;
         for &[u1, u2] in &self.pattern {
             let (u1, u2) = (wrap(u1 + r1), wrap(u2 + r2));
@@ -156,8 +200,8 @@ impl Sampler {
             let dir = t * (r * cos_phi) + b * (r * sin_phi) + n * z;
             let ray = Ray::segment(origin.into(), dir.into(), 0.0, d_max);
             sum += match bvh.closest_hit(&ray) {
-                // μ(d) for d < d_max, written out to reuse the precomputed normalisation.
-                Some(h) => ((-tau * h.t / d_max).exp_m1() * self.inv_norm).clamp(0.0, 1.0),
+                // μ(d) for d < d_max, with the normalisation computed once.
+                Some(h) => self.norm.mu(h.t, d_max),
                 None => 1.0,
             };
         }

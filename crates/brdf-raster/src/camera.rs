@@ -1,4 +1,4 @@
-//! Look-at cameras with OpenGL conventions (see `/work/shared/bench/SCENE.md`): right-handed world,
+//! Look-at cameras with OpenGL conventions (those of the canonical benchmark scene): right-handed world,
 //! the camera looks down its −z axis, `p_clip = P · V · p_world`, NDC z ∈ [−1, 1].
 //!
 //! The view matrix is glam's right-handed `look_at_mat4` (rows of `V` are the camera's x, y, z axes,
@@ -9,6 +9,21 @@
 use glam::{Mat4, Vec3};
 
 use crate::RasterError;
+
+/// Largest image aspect ratio `width / height` (and its inverse the smallest): that of the widest image
+/// the renderer makes, [`crate::render::MAX_IMAGE_SIDE`] × 1.
+pub const MAX_ASPECT: f32 = crate::render::MAX_IMAGE_SIDE as f32;
+
+/// Check an aspect ratio `width / height`: finite, in `[1/MAX_ASPECT, MAX_ASPECT]`.
+pub fn check_aspect(aspect: f32) -> Result<f32, RasterError> {
+    if !(1.0 / MAX_ASPECT..=MAX_ASPECT).contains(&aspect) {
+        return Err(RasterError::arg(
+            "aspect",
+            format!("must be a width/height ratio in [1/{MAX_ASPECT}, {MAX_ASPECT}], got {aspect}"),
+        ));
+    }
+    Ok(aspect)
+}
 
 /// The projection of a [`Camera`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,7 +58,8 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// A perspective camera (SCENE.md: eye (0,0,3), target 0, up +y, fovy 45°, near 0.1, far 100).
+    /// A perspective camera (the canonical scene's: eye (0,0,3), target 0, up +y, fovy 45°, near 0.1,
+    /// far 100).
     pub fn perspective(
         eye: Vec3,
         target: Vec3,
@@ -140,6 +156,20 @@ impl Camera {
         }
     }
 
+    /// [`Camera::projection`] after checking `aspect`: finite and within [`MAX_ASPECT`]`^±1` (the aspect
+    /// of any image the renderer makes); beyond that `P` had infinite entries (`1/aspect` overflows).
+    pub fn checked_projection(&self, aspect: f32) -> Result<Mat4, RasterError> {
+        check_aspect(aspect)?;
+        let p = self.projection(aspect);
+        if !p.is_finite() {
+            return Err(RasterError::arg(
+                "aspect",
+                format!("gives a non-finite projection with this camera: {p}"),
+            ));
+        }
+        Ok(p)
+    }
+
     /// `P · V`.
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
@@ -157,7 +187,8 @@ impl Camera {
     }
 
     /// The unit direction from `p` toward the viewer: `normalize(eye − p)` for a perspective camera
-    /// (SCENE.md), the constant `normalize(eye − target)` for an orthographic one (viewer at infinity).
+    /// (OpenGL's convention), the constant `normalize(eye − target)` for an orthographic one (viewer at
+    /// infinity).
     #[inline]
     pub fn view_vector(&self, p: Vec3) -> Vec3 {
         match self.projection {

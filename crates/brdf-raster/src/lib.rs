@@ -2,10 +2,12 @@
 //!
 //! A tiled, multithreaded software rasterizer that shades meshes with `brdf-core` models.
 
+pub mod ambient;
 pub mod ao;
 pub mod bvh;
 pub mod camera;
 pub mod clip;
+pub mod environment;
 pub mod error;
 pub mod framebuffer;
 pub mod io;
@@ -24,6 +26,8 @@ pub use camera::{Camera, Projection};
 pub use error::RasterError;
 pub use framebuffer::Frame;
 pub use mesh::Mesh;
-pub use render::{NoOcclusion, Occlusion, RenderOptions, ShadePoint, coverage_counts, render, render_with};
+pub use render::{
+    NoOcclusion, Occlusion, Outputs, RenderOptions, ShadePoint, coverage_counts, render, render_with,
+};
 pub use scene::{Instance, Material, Scene};
 pub use shading::ShadingMode;

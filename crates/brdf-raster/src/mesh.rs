@@ -1,8 +1,8 @@
 //! Triangle meshes: positions, per-vertex normals, indices, optional per-vertex colors, validated
-//! once; transforms, bounds, face normals, vertex normals by the three weightings of seed 004,
+//! once; transforms, bounds, face normals, vertex normals by the three weightings of Theoharis et al. 2008,
 //! winding checks (signed volume) and a report of degenerate faces and topology.
 
-use glam::{DVec3, Mat3, Mat4, Vec3, Vec4};
+use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use crate::RasterError;
 use crate::normals::{self, Weighting};
@@ -26,6 +26,12 @@ pub struct Mesh {
     pub indices: Vec<[u32; 3]>,
     /// Optional per-vertex linear RGB colors that multiply the material's diffuse term.
     pub colors: Option<Vec<Vec3>>,
+    /// Optional per-vertex texture coordinates `(u, v)`, glTF's convention: `(0, 0)` is the first
+    /// (top-left) texel of the image, `v` grows downward.
+    pub uvs: Option<Vec<Vec2>>,
+    /// Optional per-vertex tangents `(t, w)`: `t` a unit vector perpendicular to the normal along
+    /// increasing `u`, `w = ±1` the handedness, bitangent `b = w·(n × t)` (glTF's TANGENT).
+    pub tangents: Option<Vec<Vec4>>,
 }
 
 /// An axis-aligned bounding box (`min ≤ max` component-wise for a non-empty set of points).
@@ -155,7 +161,44 @@ impl Mesh {
             }
             None => normals::vertex_normals(&positions, &indices, Weighting::Angle),
         };
-        Ok(Self { positions, normals, indices, colors: None })
+        Ok(Self { positions, normals, indices, colors: None, uvs: None, tangents: None })
+    }
+
+    /// Attach per-vertex texture coordinates (one per vertex, finite).
+    pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Result<Self, RasterError> {
+        if uvs.len() != self.positions.len() {
+            return Err(RasterError::InvalidMesh(format!(
+                "{} texture coordinates for {} vertices",
+                uvs.len(),
+                self.positions.len()
+            )));
+        }
+        if let Some(i) = uvs.iter().position(|c| !c.is_finite()) {
+            return Err(RasterError::InvalidMesh(format!("texture coordinate {i} is not finite")));
+        }
+        self.uvs = Some(uvs);
+        Ok(self)
+    }
+
+    /// Attach per-vertex tangents `(t, w)` (one per vertex, finite, `w = ±1`; `t` is normalised, and a
+    /// zero `t` is kept as zero: no frame there).
+    pub fn with_tangents(mut self, tangents: Vec<Vec4>) -> Result<Self, RasterError> {
+        if tangents.len() != self.positions.len() {
+            return Err(RasterError::InvalidMesh(format!(
+                "{} tangents for {} vertices",
+                tangents.len(),
+                self.positions.len()
+            )));
+        }
+        if let Some(i) = tangents.iter().position(|t| !t.is_finite() || t.w.abs() != 1.0) {
+            return Err(RasterError::InvalidMesh(format!(
+                "tangent {i} {} is not finite or its w is not ±1",
+                tangents[i]
+            )));
+        }
+        let tangents = tangents.into_iter().map(|t| t.truncate().normalize_or_zero().extend(t.w)).collect();
+        self.tangents = Some(tangents);
+        Ok(self)
     }
 
     /// Attach per-vertex colors (one per vertex, finite).
@@ -216,7 +259,8 @@ impl Mesh {
         Mat4::from_scale(Vec3::splat(scale)) * Mat4::from_translation(-center)
     }
 
-    /// Unit normal of face `f` by the cross product `(p₁−p₀)×(p₂−p₀)` (seed 004); zero when the
+    /// Unit normal of face `f` by the cross product `(p₁−p₀)×(p₂−p₀)` (Theoharis et al. 2008, ch. 12); zero
+    /// when the
     /// face is degenerate.
     #[inline]
     pub fn face_normal(&self, f: usize) -> Vec3 {
@@ -229,7 +273,7 @@ impl Mesh {
         normals::face_normals(&self.positions, &self.indices)
     }
 
-    /// Recompute the vertex normals from the faces by `weighting` (seed 004 eqs. 12.31–12.33),
+    /// Recompute the vertex normals from the faces by `weighting` (Theoharis et al. 2008 eqs. 12.31–12.33),
     /// replacing any normals given or loaded.
     pub fn compute_normals(&mut self, weighting: Weighting) {
         self.normals = normals::vertex_normals(&self.positions, &self.indices, weighting);
@@ -245,6 +289,10 @@ impl Mesh {
         }
         for n in &mut self.normals {
             *n = -*n;
+        }
+        // The normal turned, the bitangent w·(n × t) stays where the texture has it.
+        for t in self.tangents.iter_mut().flatten() {
+            t.w = -t.w;
         }
     }
 
@@ -286,7 +334,8 @@ impl Mesh {
     /// Normals go through the normal matrix `(M₃ₓ₃⁻¹)ᵀ` and are re-normalised, so they stay
     /// perpendicular to the surface under non-uniform scale. When `det M₃ₓ₃ < 0` (a mirror) the
     /// winding of every face is reversed too, so faces stay counter-clockwise seen from the side
-    /// the normals point to (a GPU would need `glFrontFace(GL_CW)` instead). Colors are kept.
+    /// the normals point to (a GPU would need `glFrontFace(GL_CW)` instead). Colors and texture
+    /// coordinates are kept; tangents go through `M₃ₓ₃`, their handedness flipped by a mirror.
     ///
     /// Errors: `m` is not finite, not affine (last row ≠ 0 0 0 1 within 10⁻⁶; within it the last
     /// row is ignored), singular, or maps a vertex to a non-finite position.
@@ -318,7 +367,13 @@ impl Mesh {
                 tri.swap(1, 2);
             }
         }
-        Ok(Mesh { positions, normals, indices, colors: self.colors.clone() })
+        // Tangents are directions in the surface: they go through M itself; a mirror swaps the
+        // handedness of the (t, b, n) frame.
+        let handedness = if det < 0.0 { -1.0 } else { 1.0 };
+        let tangents = self.tangents.as_ref().map(|ts| {
+            ts.iter().map(|t| (linear * t.truncate()).normalize_or_zero().extend(t.w * handedness)).collect()
+        });
+        Ok(Mesh { positions, normals, indices, colors: self.colors.clone(), uvs: self.uvs.clone(), tangents })
     }
 
     /// Measure the mesh: counts, degenerate faces, unreferenced vertices, boundary and

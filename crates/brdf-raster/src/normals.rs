@@ -1,6 +1,6 @@
-//! Face and vertex normals (seed 004, "The Normal Vector" and "Vertex Normal Vector for Polygonal
-//! Meshes"): the corner cross product, Newell's method, the average of corner normals, and vertex
-//! normals weighted equally, by area or by angle (seed 004 eqs. 12.31–12.33).
+//! Face and vertex normals (Theoharis et al. 2008, ch. 12): the corner cross product, Newell's method, the
+//! average of corner normals, and vertex
+//! normals weighted equally, by area or by angle (Theoharis et al. 2008 eqs. 12.31–12.33).
 //!
 //! Conventions: a polygon's vertices are listed counter-clockwise seen from the front, so every
 //! face normal here points toward the viewer of a CCW polygon (right-hand rule). Functions that
@@ -11,7 +11,7 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-/// How face normals are weighted when averaged into a vertex normal (seed 004).
+/// How face normals are weighted when averaged into a vertex normal (Theoharis et al. 2008, ch. 12).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Weighting {
     /// Every incident face counts once: `n̂ = Σ f̂_i / |Σ f̂_i|` (eq. 12.31, Gouraud 1971).
@@ -33,8 +33,8 @@ pub fn triangle_normal(a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     (b - a).cross(c - a)
 }
 
-/// The normal at polygon corner `v` with neighbours `prev` and `next` (seed 004, "The Normal
-/// Vector (4)"): `n⃗ = (v_{i+1} − v_i) × (v_{i−1} − v_i)`, not normalised.
+/// The normal at polygon corner `v` with neighbours `prev` and `next` (Theoharis et al. 2008, ch. 12): `n⃗ =
+/// (v_{i+1} − v_i) × (v_{i−1} − v_i)`, not normalised.
 ///
 /// For a CCW polygon this is the outward normal; its length is `|e₁|·|e₂|·sin θ` for the corner
 /// angle θ.
@@ -43,7 +43,7 @@ pub fn corner_normal(prev: Vec3, v: Vec3, next: Vec3) -> Vec3 {
     (next - v).cross(prev - v)
 }
 
-/// Polygon normal by Martin Newell's method (seed 004, "The Normal Vector (5)"), not normalised:
+/// Polygon normal by Martin Newell's method (Theoharis et al. 2008, ch. 12), not normalised:
 ///
 /// `a = Σ (y_i − y_{i⊕1})(z_i + z_{i⊕1})`, `b = Σ (z_i − z_{i⊕1})(x_i + x_{i⊕1})`,
 /// `c = Σ (x_i − x_{i⊕1})(y_i + y_{i⊕1})`, ⊕ = addition modulo n.
@@ -71,13 +71,14 @@ pub fn newell_normal(polygon: &[Vec3]) -> Vec3 {
     n.as_vec3()
 }
 
-/// Unit polygon normal as the average of the unit corner normals (seed 004, "Numerical Example",
+/// Unit polygon normal as the average of the unit corner normals (Theoharis et al. 2008, ch. 12,
 /// method 1): `n̂ = normalize(Σ_i normalize(corner_normal(v_{i−1}, v_i, v_{i+1})))`.
 ///
 /// Normalising each corner normal first gives every corner equal weight. Degenerate corners
 /// (collinear edges) contribute nothing; a fully degenerate polygon gives zero.
 ///
-/// Seed 004's worked example (the quad (0,0,0), (1,0,0), (1,1,0), (0,1,0.5)) prints the corner
+/// A course text's worked example (after Theoharis et al. 2008) (the quad (0,0,0), (1,0,0), (1,1,0),
+/// (0,1,0.5)) prints the corner
 /// normal at v₄ as (0.25, −0.5, 1); the cross product (0,−1,−0.5) × (1,0,−0.5) is (0.5, −0.5, 1),
 /// so the seed's average is off. The correct average, ≈ (0.225, −0.225, 0.948), has n_x = −n_y
 /// as the quad's mirror symmetry demands (tests/mesh.rs checks this).
@@ -105,7 +106,7 @@ pub fn corner_average_normal(polygon: &[Vec3]) -> Vec3 {
 }
 
 /// Interior angle (radians, in [0, π]) at corner `v` between the edges toward `prev` and `next`:
-/// `θ = acos(ê₁·ê₂)` (seed 004, "Vertex Normal: Symbolic Example"). Zero for a zero-length edge.
+/// `θ = acos(ê₁·ê₂)` (Theoharis et al. 2008, ch. 12). Zero for a zero-length edge.
 ///
 /// Computed as `atan2(|e₁×e₂|, e₁·e₂)`, which equals the seed's arccos but stays accurate for
 /// angles near 0 and π where acos loses half its digits.
@@ -129,7 +130,7 @@ fn contribution(face: Vec3, angle: impl FnOnce() -> f32, weighting: Weighting) -
     }
 }
 
-/// Unit vertex normals of an indexed triangle mesh by the given weighting (seed 004 eqs.
+/// Unit vertex normals of an indexed triangle mesh by the given weighting (Theoharis et al. 2008 eqs.
 /// 12.31–12.33); face normals by [`triangle_normal`]. A vertex no face uses, or whose
 /// contributions cancel, gets the zero vector. Indices must be in range (a [`crate::Mesh`]
 /// guarantees it).
@@ -178,7 +179,7 @@ fn face_contributions(p: [Vec3; 3], weighting: Weighting) -> [Vec3; 3] {
     }
 }
 
-/// Unit vertex normals of a mesh of arbitrary polygons (seed 004 eqs. 12.31–12.33), each face
+/// Unit vertex normals of a mesh of arbitrary polygons (Theoharis et al. 2008 eqs. 12.31–12.33), each face
 /// normal by [`newell_normal`] (twice the area for a planar polygon, so `Area` weighting agrees
 /// with [`vertex_normals`] on triangles), each angle the polygon's interior angle at the vertex.
 /// Faces with fewer than 3 vertices and indices out of range are skipped.

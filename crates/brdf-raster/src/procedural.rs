@@ -1,4 +1,4 @@
-//! Procedural meshes: the canonical icosphere of `shared/bench/SCENE.md`, a torus, a plane, a cube
+//! Procedural meshes: the canonical benchmark scene's icosphere, a torus, a plane, a cube
 //! and an open box. Every mesh is wound counter-clockwise seen from its front side, and its vertex
 //! normals are exact (analytic), not averaged.
 
@@ -13,7 +13,7 @@ pub const MAX_ICOSPHERE_LEVEL: u32 = 10;
 /// Most vertices a grid-based generator ([`torus`], [`plane`], [`cube`], [`open_box`]) builds.
 const MAX_GRID_VERTICES: usize = 1 << 26;
 
-/// The unit icosphere of SCENE.md, subdivided `level` times.
+/// The unit icosphere of the canonical benchmark scene, subdivided `level` times.
 ///
 /// - Level 0: the regular icosahedron with golden-ratio vertices `(±1, ±φ, 0)`, `(0, ±1, ±φ)`,
 ///   `(±φ, 0, ±1)`, φ = (1+√5)/2, normalised to radius 1, in the order and with the 20 faces
@@ -89,15 +89,15 @@ pub fn icosphere(level: u32) -> Result<Mesh, RasterError> {
     }
     let positions: Vec<Vec3> = positions.into_iter().map(|p| p.as_vec3()).collect();
     let normals = positions.clone();
-    Ok(Mesh { positions, normals, indices: faces, colors: None })
+    Ok(Mesh { positions, normals, indices: faces, colors: None, uvs: None, tangents: None })
 }
 
-/// One 1→4 midpoint subdivision step with SCENE.md's vertex and face order (see [`icosphere`]).
+/// One 1→4 midpoint subdivision step with the canonical scene's vertex and face order (see [`icosphere`]).
 fn subdivide(positions: &[DVec3], faces: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let nv = positions.len();
     // Counting sort of the undirected edges by their smaller endpoint: bucket `a` holds the larger
     // endpoints `b > a` of the edges (a, b). Sorting and de-duplicating each small bucket puts the
-    // edges in ascending order of the key (a, b), which is SCENE.md's order for new vertices.
+    // edges in ascending order of the key (a, b), which is the canonical scene's order for new vertices.
     let mut start = vec![0u32; nv + 1];
     for tri in faces {
         for k in 0..3 {
@@ -160,12 +160,12 @@ fn subdivide(positions: &[DVec3], faces: &[[u32; 3]]) -> (Vec<DVec3>, Vec<[u32; 
     (new_positions, new_faces)
 }
 
-/// Major radius of [`torus`] (SCENE.md).
+/// Major radius of [`torus`].
 pub const TORUS_MAJOR_RADIUS: f32 = 0.7;
-/// Minor (tube) radius of [`torus`] (SCENE.md).
+/// Minor (tube) radius of [`torus`].
 pub const TORUS_MINOR_RADIUS: f32 = 0.3;
 
-/// The torus of SCENE.md: major radius R = 0.7, minor radius r = 0.3, axis +z, centred at the
+/// The benchmark torus: major radius R = 0.7, minor radius r = 0.3, axis +z, centred at the
 /// origin, with `major_segments` (M) around the axis and `minor_segments` (m) around the tube.
 ///
 /// Vertex `i·m + j` (i < M, j < m) sits at `u = 2πi/M`, `v = 2πj/m`:
@@ -213,8 +213,8 @@ pub fn torus(major_segments: u32, minor_segments: u32) -> Result<Mesh, RasterErr
     Mesh::new(positions, indices, Some(normals))
 }
 
-/// A square in the plane y = 0, facing **+y** (a floor under objects in the +y-up world of
-/// SCENE.md), centred at the origin, `size` on a side, split into `subdivisions × subdivisions`
+/// A square in the plane y = 0, facing **+y** (a floor under objects in the +y-up world), centred at the
+/// origin, `size` on a side, split into `subdivisions × subdivisions`
 /// cells of two triangles. Vertex `j·(s+1) + i` sits at `x = −size/2 + i·size/s`,
 /// `z = +size/2 − j·size/s`; all normals are +y; faces are CCW seen from above.
 /// Rotate it with [`Mesh::transformed`] for another orientation.

@@ -8,7 +8,7 @@ use glam::{Mat3, Mat4, Vec3};
 
 use crate::{Mesh, RasterError};
 
-/// A surface's appearance in the Phong illumination model (seed 004, SPEC row 14):
+/// A surface's appearance in the Phong illumination model (Phong 1975; Theoharis et al. 2008, ch. 12):
 /// `L = emission + k_a ∘ I_a + Σ_j E_j ∘ shade(model; l_j, v, n)`, see
 /// [`brdf_core::illumination`]. Any registered reflectance model can be the material.
 #[derive(Debug, Clone, PartialEq)]
@@ -83,8 +83,11 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Ambient light `I_a` (linear RGB).
     pub ambient_light: Vec3,
-    /// Radiance of samples no triangle covers (linear RGB).
+    /// Radiance of samples no triangle covers (linear RGB), unless there is an environment.
     pub background: Vec3,
+    /// Light arriving from every direction, also shown where no triangle is (replacing `background`);
+    /// see [`crate::environment`] and [`crate::render::RenderOptions::environment`].
+    pub environment: Option<crate::environment::Environment>,
 }
 
 impl Default for Scene {
@@ -96,7 +99,13 @@ impl Default for Scene {
 impl Scene {
     /// An empty scene with white ambient light `I_a = 1` and a black background.
     pub fn new() -> Self {
-        Self { instances: Vec::new(), lights: Vec::new(), ambient_light: Vec3::ONE, background: Vec3::ZERO }
+        Self {
+            instances: Vec::new(),
+            lights: Vec::new(),
+            ambient_light: Vec3::ONE,
+            background: Vec3::ZERO,
+            environment: None,
+        }
     }
 
     /// Add a mesh instance; returns its index.
@@ -116,7 +125,8 @@ impl Scene {
         self.instances.iter().map(|i| i.mesh.indices.len()).sum()
     }
 
-    /// Check everything a render relies on: finite, affine, invertible transforms, valid materials and lights,
+    /// Check everything a render relies on: finite, affine, invertible transforms, valid materials and
+    /// lights,
     /// finite colours, and at most `u32::MAX − 1` faces and vertices in total (ids fit `u32`).
     pub fn validate(&self) -> Result<(), RasterError> {
         for (k, inst) in self.instances.iter().enumerate() {
@@ -144,6 +154,9 @@ impl Scene {
                 return Err(RasterError::arg(name, format!("must be finite and ≥ 0, got {c}")));
             }
         }
+        if let Some(env) = &self.environment {
+            env.validate()?;
+        }
         let verts: usize = self.instances.iter().map(|i| i.mesh.positions.len()).sum();
         if self.face_count() >= u32::MAX as usize || verts >= u32::MAX as usize {
             return Err(RasterError::arg("scene", "more than 2^32 − 1 faces or vertices in total"));
@@ -152,7 +165,7 @@ impl Scene {
     }
 }
 
-/// The canonical benchmark scene of `/work/shared/bench/SCENE.md`: `icosphere(level)` at the origin
+/// The canonical benchmark scene: `icosphere(level)` at the origin
 /// with the classic Blinn-Phong material `kd = (0.8, 0.3, 0.2)`, `ks = 0.5`, `s = 32`, ambient
 /// `k_a = 0.05·kd` under `I_a = 1`; a directional light travelling along `(−1, −1, −1)` with `E = 1`
 /// and a point light at `(2, 2, 2)` with `I = 10` and inverse-square falloff; black background.
@@ -177,7 +190,7 @@ pub fn canonical_scene(level: u32) -> Result<Scene, RasterError> {
 }
 
 /// The camera of the canonical scene: eye (0, 0, 3), target 0, up +y, 45° vertical field of view,
-/// near 0.1, far 100 (SCENE.md).
+/// near 0.1, far 100.
 pub fn canonical_camera() -> crate::Camera {
     crate::Camera {
         eye: Vec3::new(0.0, 0.0, 3.0),

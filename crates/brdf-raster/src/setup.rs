@@ -2,7 +2,7 @@
 //! top-left fill rule, back-face culling, and the attribute plane equations used for perspective-correct
 //! interpolation.
 //!
-//! ## Viewport and sampling (SCENE.md)
+//! ## Viewport and sampling (the canonical scene's)
 //! NDC x = −1…1 maps to columns 0…W and NDC y = +1 to the **top** row (row 0); sample `(c, r)` is the
 //! pixel centre `(c + ½, r + ½)`. Screen coordinates are y-down.
 //!
@@ -14,7 +14,7 @@
 //! exactly the same integers and can neither both cover nor both miss a sample on it.
 //!
 //! ## Orientation and culling
-//! A triangle counter-clockwise in NDC (y up) — front-facing, SCENE.md — has a **negative** signed area
+//! A triangle counter-clockwise in NDC (y up) — front-facing — has a **negative** signed area
 //! `A = (X1−X0)(Y2−Y0) − (X2−X0)(Y1−Y0)` in y-down screen coordinates. `A = 0` (degenerate or edge-on,
 //! decided exactly in integers) is skipped. Back faces (`A > 0`) are culled on request; otherwise
 //! every triangle is brought to `A > 0` by swapping two vertices, so that inside ⇔ all three edge
@@ -30,7 +30,7 @@
 //! tie rule to the implementation and counts window rows from the bottom; an implementation applying
 //! "top-left" in its y-up window coordinates resolves exact ties on horizontal edges the other way
 //! round. Only samples lying exactly on an edge can differ, which real meshes almost never produce
-//! (SCENE.md's comparison allows a few dozen silhouette pixels for all reasons together).
+//! (the benchmark's comparison with llvmpipe allows a few dozen silhouette pixels for all reasons together).
 //!
 //! ## Depth and attributes
 //! Window depth `z_window = (z_ndc + 1)/2` is affine in screen space: a plane
@@ -39,7 +39,8 @@
 //!
 //! The other attributes are not interpolated from screen-space planes: the shading pass intersects the
 //! sample's view ray with the original (unclipped, unsnapped) world-space triangle and uses the
-//! barycentrics of the hit (see `render.rs`). That is exactly perspective-correct interpolation — the
+//! barycentrics of the hit (see `render/interpolate.rs`). That is exactly perspective-correct interpolation —
+//! the
 //! `b_i/w` over `1/w` of GL's `smooth` qualifier, which is the ray–plane intersection written in
 //! screen space — but computed in f64 from the real vertices, so triangles seen almost edge-on
 //! (the silhouette of a sphere) keep accurate normals where screen-space planes through snapped

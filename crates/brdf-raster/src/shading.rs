@@ -1,4 +1,5 @@
-//! The four shading algorithms of seed 004 ("Illumination Algorithms based on the Phong Model" and
+//! The four shading algorithms of Theoharis et al. 2008 ("Illumination Algorithms based on the Phong Model"
+//! and
 //! "Quadratic Interpolation of Vertex Normals"), and the normal interpolation each one uses.
 //!
 //! | mode | evaluated where | interpolated across the triangle |
@@ -6,21 +7,28 @@
 //! | [`ShadingMode::Flat`] (constant) | once per triangle: centroid, face normal | nothing — one colour |
 //! | [`ShadingMode::Gouraud`] | at the three vertices (vertex normals) | the colours (perspective-correct) |
 //! | [`ShadingMode::Phong`] | every sample | position and vertex normal, normal re-normalised |
-//! | [`ShadingMode::QuadraticNormals`] | every sample | position; normal from the quadratic field of [`quadratic_normal`] |
+//! | [`ShadingMode::QuadraticNormals`] | every sample | position; normal from the quadratic field of
+//! [`quadratic_normal`] |
 //!
 //! The seed interpolates "bi-linearly along the edges and the scanline" in screen space. We interpolate
 //! with the perspective-correct barycentrics of the sample instead: on an affine (orthographic) view
 //! they are the same thing, and under perspective they are what the surface actually carries (GL's
-//! `smooth`, and what SCENE.md's anchor uses). Flat shading follows the seed's constant shading in
+//! `smooth`, and what the canonical scene uses). Flat shading follows the seed's constant shading in
 //! evaluating the illumination model once per polygon with the polygon normal (cross product of two
 //! edges), but keeps the true light and view directions at the centroid instead of the seed's
 //! simplification `l = v = +z`, so the same lights drive every mode.
+//!
+//! The mode only says where the **reflectance model** is evaluated. Obscurance and shadows (when a
+//! render has them) are asked for at every sample, with the sample's own position, in every mode: a
+//! flat face or a Gouraud triangle keeps its ambient part and each light's part apart, and each sample
+//! weights them by its own obscurance `w` and visibilities `δ_j` (see `render::shade`). Evaluating
+//! shadows once per face or vertex instead gives blocky squares and saw-tooth shadow edges.
 
 use glam::Vec3;
 
 use crate::RasterError;
 
-/// How a triangle is shaded (seed 004).
+/// How a triangle is shaded (Theoharis et al. 2008, ch. 12).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ShadingMode {
     /// Constant shading: one illumination per triangle (centroid, face normal).
@@ -64,8 +72,9 @@ impl ShadingMode {
     }
 }
 
-/// The face normal by the cross product of two edges, `(p1 − p0) × (p2 − p0)` normalised (seed 004
-/// "Normals"); zero for a degenerate triangle.
+/// The face normal by the cross product of two edges, `(p1 − p0) × (p2 − p0)` normalised (Theoharis et al.
+/// 2008,
+/// ch. 12); zero for a degenerate triangle.
 #[inline]
 pub fn face_normal(p: [Vec3; 3]) -> Vec3 {
     (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()

@@ -1,5 +1,5 @@
-//! Light visibility δ(p, j) by shadow rays, and the combined obscurance illumination of seed 004
-//! eq. 12.75.
+//! Light visibility δ(p, j) by shadow rays, and the combined obscurance illumination of
+//! Theoharis et al. 2008 eq. 12.75.
 //!
 //! ## Why shadow rays and not shadow maps
 //! The scene is already in a [`Bvh`] for obscurance, and a shadow ray answers δ exactly at the shaded
@@ -49,23 +49,32 @@ pub fn visibility(bvh: &Bvh, p: Vec3, n_geom: Vec3, incident: &Incident, eps: f3
     if ray.t_max <= 0.0 || bvh.any_hit(&ray) { 0.0 } else { 1.0 }
 }
 
-/// δ(p, j) of seed 004 eq. 12.75 for one light, from its geometry alone: toward `−direction` for a
+/// δ(p, j) of Theoharis et al. 2008 eq. 12.75 for one light, from its geometry alone: toward `−direction` for
+/// a
 /// directional light, toward the position for a point or spot light (whatever the cone). 1 when
 /// visible, 0 when blocked; 1 for a point light at `p` itself (no segment to block).
 pub fn light_visibility(bvh: &Bvh, p: Vec3, n_geom: Vec3, light: &Light) -> f32 {
-    let eps = shadow_offset(bvh);
-    let (l, d) = match *light {
+    let Some(inc) = geometric_incident(light, p) else { return 1.0 };
+    visibility(bvh, p, n_geom, &inc, shadow_offset(bvh))
+}
+
+/// The direction and distance from `p` to a light from its geometry alone, whatever its cone and
+/// colour: toward `−direction` (at infinity) for a directional light, toward the position for a point
+/// or spot light; `irradiance` is 1. `None` for a point or spot light at `p` itself. What a shadow ray
+/// needs where the light's own [`Light::incident`] may say nothing arrives (outside a spot's cone).
+pub fn geometric_incident(light: &Light, p: Vec3) -> Option<Incident> {
+    let (l, distance) = match *light {
         Light::Directional { direction, .. } => (-direction.normalize_or_zero(), f32::INFINITY),
         Light::Point { position, .. } | Light::Spot { position, .. } => {
             let to = position - p;
             let d = to.length();
             if !(d > 0.0) {
-                return 1.0;
+                return None;
             }
             (to / d, d)
         }
     };
-    visibility(bvh, p, n_geom, &Incident { l, irradiance: Vec3::ONE, distance: d }, eps)
+    Some(Incident { l, irradiance: Vec3::ONE, distance })
 }
 
 /// `I_d(p) = Σ_j δ(p, j) · E_j · max(l_j·n, 0)` of eq. 12.75: the diffuse irradiance from the lights
@@ -87,7 +96,7 @@ pub fn diffuse_irradiance(bvh: Option<&Bvh>, p: Vec3, n: Vec3, n_geom: Vec3, lig
     sum
 }
 
-/// The combined illumination of seed 004 eq. 12.75 for a Lambertian surface:
+/// The combined illumination of Theoharis et al. 2008 eq. 12.75 for a Lambertian surface:
 ///
 /// ```text
 /// I(p) = [k_a ∘ I_a + k_d ∘ I_d(p)] · w(p) + k_d ∘ I_d(p)

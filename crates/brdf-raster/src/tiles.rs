@@ -1,8 +1,10 @@
 //! Binning triangles into screen tiles and the coverage pass over one tile.
 //!
 //! ## Tiles are full-width bands
-//! A tile is a band of [`BAND_ROWS`] image rows (times the supersampling factor in samples) across the
-//! whole width. A band is one contiguous slice of every row-major buffer (colour, depth, normal,
+//! A tile is a band of about [`BAND_ROWS`] **sample** rows across the whole width: [`band_rows`]`(s)`
+//! image rows at `s × s` samples per pixel (16, 8, 5, 4 rows for 1, 4, 9, 16 samples per pixel), so a
+//! band's sample buffers hold about `16 · width · s` samples whatever `s` (memory grows with `s`, not
+//! `s²`). A band is one contiguous slice of every row-major buffer (colour, depth, normal,
 //! triangle id), so rayon hands each band its own `&mut` slices — no locks, no `unsafe`, no copy from
 //! tile storage to the image — and 1080p gives 68 units of work, enough to balance two or more threads.
 //! A band's depth and id scratch (1920 × 16 samples ≈ 240 KB) stays in L2 while its triangles are drawn.
@@ -18,8 +20,16 @@
 
 use crate::setup::{InterpTri, RasterTri};
 
-/// Image rows per band (tile height); samples per band row = this × the supersampling factor.
+/// Sample rows per band (tile height) without supersampling; see [`band_rows`].
 pub const BAND_ROWS: u32 = 16;
+
+/// Image rows per band at `s × s` samples per pixel: `BAND_ROWS / s`, at least 1. Which rows a band
+/// holds changes no result (every sample is rasterized and shaded on its own), only memory and work.
+#[inline]
+pub const fn band_rows(s: u32) -> u32 {
+    let r = BAND_ROWS / s;
+    if r == 0 { 1 } else { r }
+}
 /// Mesh faces per setup chunk.
 pub const CHUNK_FACES: usize = 4096;
 /// Bits of a [`TriRef`] for the triangle within its chunk (a face clips into at most 7 triangles).
@@ -45,6 +55,9 @@ pub struct Chunk {
     pub band_start: Vec<u32>,
     /// Local triangle indices, grouped by band, in submission order within a band.
     pub band_tris: Vec<u16>,
+    /// Flat shading: what the reflectance model gives at each triangle's face (a fixed number of
+    /// values per triangle, parallel to `raster`); empty otherwise.
+    pub flat: Vec<glam::Vec3>,
 }
 
 impl Chunk {

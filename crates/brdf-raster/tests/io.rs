@@ -426,7 +426,10 @@ fn bad_obj_files_give_clear_errors() {
     let cases: &[(&[u8], &str)] = &[
         (b"", "has no faces"),
         (b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
-        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "vertex index 4 is out of range"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "vertex index 4 is out of range (the file has 3 vertices)"),
+        (b"v 0 0 0\nf 1 2 3\n", "(the file has 1 vertex)"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//1 3//1\nvn 0 0 1\n", "the file has 1 normal)"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/3 2/1 3/1\n", "has 2 texture coordinates)"),
         (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "vertex index 0"),
         (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n", "vertex index -4"),
         (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n", "texture coordinate index 1"),
@@ -528,10 +531,10 @@ fn load_mesh_reports_missing_files_and_unknown_types() {
     assert!(problem.contains("cannot read"), "{problem}");
     let dir = std::env::temp_dir().join(format!("brdf-raster-io-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let stl = dir.join("model.stl");
-    std::fs::write(&stl, b"solid x\nendsolid x\n").unwrap();
-    let problem = file_problem(load_mesh(&stl));
-    assert!(problem.contains(".stl") && problem.contains(".obj or .ply"), "{problem}");
+    let off = dir.join("model.off");
+    std::fs::write(&off, b"OFF\n3 1 0\n").unwrap();
+    let problem = file_problem(load_mesh(&off));
+    assert!(problem.contains(".off") && problem.contains(".obj, .ply or .stl"), "{problem}");
     // A PLY file under another name is recognised by its magic; extensions are case-blind.
     let odd = dir.join("cow.mesh");
     std::fs::copy(repo_data("garland_cow.ply"), &odd).unwrap();

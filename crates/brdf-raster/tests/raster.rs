@@ -5,9 +5,10 @@ use std::sync::Arc;
 
 use brdf_core::lights::{Attenuation, Light};
 use brdf_core::{Input, Model};
+use brdf_raster::render::MAX_PIXELS;
 use brdf_raster::scene::{canonical_camera, canonical_scene};
 use brdf_raster::{
-    Camera, Frame, Material, Mesh, RenderOptions, Scene, ShadingMode, coverage_counts, render,
+    Camera, Frame, Material, Mesh, Outputs, RenderOptions, Scene, ShadingMode, coverage_counts, render,
 };
 use glam::{DVec3, Mat4, Vec3};
 
@@ -448,7 +449,10 @@ fn shading_eight_samples_at_a_time_gives_the_bits_of_shading_one_at_a_time() {
 #[test]
 fn the_8_bit_image_encoded_during_the_render_is_the_one_encoded_after_it() {
     use brdf_core::tonemap::Operator;
-    let scene = canonical_scene(4).unwrap();
+    let mut scene = canonical_scene(4).unwrap();
+    // A background whose mean over 9 or 16 samples is not its own bits: the render copies one encoded
+    // background pixel outside the covered span of each row, which must be the resolved value's.
+    scene.background = Vec3::new(0.1, 0.7, 0.33);
     let camera = canonical_camera();
     let mut reused = Frame::default();
     for (op, ev, spp) in [
@@ -456,12 +460,14 @@ fn the_8_bit_image_encoded_during_the_render_is_the_one_encoded_after_it() {
         (Operator::Reinhard, 1.5, 4),
         (Operator::Aces, -0.5, 1),
         (Operator::ReinhardExtended { white: 3.0 }, 0.0, 9),
+        (Operator::Clamp, 0.7, 16),
+        (Operator::Aces, 0.0, 9),
     ] {
         let options = RenderOptions {
             tonemap: op,
             exposure: ev,
             samples_per_pixel: spp,
-            encode_rgb8: true,
+            outputs: brdf_raster::Outputs::ALL,
             ..RenderOptions::new(97, 53)
         };
         let frame = render(&scene, &camera, &options).unwrap();
@@ -469,10 +475,76 @@ fn the_8_bit_image_encoded_during_the_render_is_the_one_encoded_after_it() {
         brdf_raster::render::render_into(&scene, &camera, &options, &mut reused).unwrap();
         assert_eq!(reused.rgb8, frame.rgb8, "{op:?}: render_into");
     }
+    // A view where the sphere fills whole bands, and one where nothing is drawn (looking away).
+    let near = Camera::perspective(Vec3::new(0.0, 0.0, 1.3), Vec3::ZERO, Vec3::Y, 0.8, 0.1, 100.0).unwrap();
+    let away =
+        Camera::perspective(Vec3::new(0.0, 0.0, 3.0), Vec3::new(0.0, 0.0, 4.0), Vec3::Y, 0.8, 0.1, 100.0)
+            .unwrap();
+    for spp in [1, 4] {
+        let options = RenderOptions {
+            samples_per_pixel: spp,
+            outputs: brdf_raster::Outputs::ALL,
+            ..RenderOptions::new(64, 40)
+        };
+        let frame = render(&scene, &near, &options).unwrap();
+        assert!(frame.covered_pixels() > 64 * 20, "{spp} spp");
+        assert_eq!(frame.rgb8, frame.to_rgb8(), "close up, {spp} spp");
+        let frame = render(&scene, &away, &options).unwrap();
+        assert_eq!(frame.covered_pixels(), 0);
+        assert_eq!(frame.rgb8, frame.to_rgb8(), "nothing drawn, {spp} spp");
+    }
     // Not asked for: no image kept (and a reused frame drops its old one).
     brdf_raster::render::render_into(&scene, &camera, &RenderOptions::new(97, 53), &mut reused).unwrap();
     assert!(reused.rgb8.is_empty());
     assert!(render(&scene, &camera, &RenderOptions::new(8, 8)).unwrap().rgb8.is_empty());
+}
+
+#[test]
+fn a_render_writes_exactly_the_outputs_asked_for_with_the_bits_of_a_full_render() {
+    let mut scene = canonical_scene(3).unwrap();
+    scene.background = Vec3::new(0.02, 0.03, 0.05);
+    let camera = canonical_camera();
+    // Every subset of the outputs, at 1 and 4 samples per pixel, into one reused frame whose buffers
+    // change from render to render.
+    let mut reused = Frame::default();
+    for spp in [1, 4, 9] {
+        let base = RenderOptions { samples_per_pixel: spp, ..RenderOptions::new(83, 61) };
+        let full = render(&scene, &camera, &RenderOptions { outputs: Outputs::ALL, ..base }).unwrap();
+        assert_eq!(full.outputs(), Outputs::ALL);
+        for bits in 1..32u8 {
+            let outputs = Outputs::NAMES
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| bits >> k & 1 == 1)
+                .fold(Outputs::NONE, |o, (_, (_, x))| o | *x);
+            let options = RenderOptions { outputs, ..base };
+            brdf_raster::render::render_into(&scene, &camera, &options, &mut reused).unwrap();
+            let what = format!("{spp} spp, {:?}", outputs.names());
+            assert_eq!(reused.outputs(), outputs, "{what}");
+            let expect = Frame {
+                hdr: if outputs.contains(Outputs::HDR) { full.hdr.clone() } else { vec![] },
+                depth: if outputs.contains(Outputs::DEPTH) { full.depth.clone() } else { vec![] },
+                normal: if outputs.contains(Outputs::NORMAL) { full.normal.clone() } else { vec![] },
+                triangle_id: if outputs.contains(Outputs::TRIANGLE_ID) {
+                    full.triangle_id.clone()
+                } else {
+                    vec![]
+                },
+                rgb8: if outputs.contains(Outputs::RGB8) { full.rgb8.clone() } else { vec![] },
+                ..full.clone()
+            };
+            assert_same(&reused, &expect, &what);
+            assert_eq!(reused.rgb8, expect.rgb8, "{what}: rgb8");
+            if outputs.contains(Outputs::DEPTH) || outputs.contains(Outputs::TRIANGLE_ID) {
+                assert_eq!(reused.covered_pixels(), full.covered_pixels(), "{what}: coverage");
+            }
+            if outputs.contains(Outputs::HDR) || outputs.contains(Outputs::RGB8) {
+                assert_eq!(reused.to_rgb8(), full.rgb8, "{what}: to_rgb8");
+            }
+        }
+    }
+    // Without supersampling the rows of a band are 16; with it the sample rows stay near 16.
+    assert_eq!([1, 2, 3, 4].map(brdf_raster::tiles::band_rows), [16, 8, 5, 4]);
 }
 
 #[test]
@@ -580,9 +652,15 @@ fn bad_input_is_refused_with_a_clear_error() {
         err(RenderOptions { samples_per_pixel: 2, ..RenderOptions::new(10, 10) })
             .contains("samples_per_pixel")
     );
-    assert!(
-        err(RenderOptions { samples_per_pixel: 16, ..RenderOptions::new(16384, 16384) }).contains("exceeds")
-    );
+    // The limit is on pixels, whatever the samples per pixel, and names both sides.
+    let big = err(RenderOptions { samples_per_pixel: 16, ..RenderOptions::new(16384, 16384) });
+    assert!(big.starts_with("width, height:") && big.contains(&MAX_PIXELS.to_string()), "{big}");
+    assert!(err(RenderOptions::new(16384, 4097)).contains("exceeds"));
+    for spp in [1, 4, 9, 16] {
+        RenderOptions { samples_per_pixel: spp, ..RenderOptions::new(3840, 2160) }.validate().unwrap();
+        RenderOptions { samples_per_pixel: spp, ..RenderOptions::new(16384, 4096) }.validate().unwrap();
+    }
+    assert!(err(RenderOptions { outputs: Outputs::NONE, ..RenderOptions::new(4, 4) }).contains("outputs"));
     assert!(err(RenderOptions { exposure: f32::NAN, ..RenderOptions::new(10, 10) }).contains("exposure"));
     let mut bad = scene.clone();
     bad.instances[0].transform = Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0));

@@ -15,7 +15,7 @@ use glam::{Mat4, Vec3};
 const W: u32 = 96;
 
 fn lambert(c: f64) -> Model {
-    Model::build("lambert_classic", &[("color".to_string(), Input::Number(c))]).unwrap()
+    Model::build("lambert_classic", &[("kd".to_string(), Input::Number(c))]).unwrap()
 }
 
 /// Plane 8×8 at y = 0 and a unit sphere centred at (0, 1, 0); ambient reflectance `ka`, `I_a` = 1.
@@ -99,6 +99,42 @@ fn shadows_fall_where_the_light_projects_the_sphere() {
         assert!((plain.hdr_at(c, r).x - lit_value).abs() < 1e-4, "no shadows: lit at ({x},{z})");
         let want = if in_shadow { 0.0 } else { lit_value };
         assert!((shadowed.hdr_at(c, r).x - want).abs() < 1e-4, "({x},{z}): {}", shadowed.hdr_at(c, r).x);
+    }
+}
+
+#[test]
+fn shadows_and_obscurance_are_per_sample_whatever_the_shading_mode() {
+    // A floor of two triangles (their centroids and vertices all far from the shadow) under a
+    // slanted sun: flat and Gouraud shading evaluate the model per face / per vertex, which on a flat
+    // floor under a directional light is the same colour everywhere, but the shadow and the per-pixel
+    // obscurance must still fall per sample, exactly where Phong shading puts them. (They used to be
+    // computed at the centroid / vertices: no shadow on the floor at all.)
+    let sun = Light::directional(Vec3::new(1.0, -1.0, 0.0), Vec3::ONE).unwrap();
+    let mut s = Scene::new();
+    let m = Material::new(lambert(0.8)).with_ambient(Vec3::splat(0.25));
+    s.add(Arc::new(plane(8.0, 1).unwrap()), m.clone(), Mat4::IDENTITY);
+    s.add(Arc::new(icosphere(3).unwrap()), m, Mat4::from_translation(Vec3::Y));
+    s.lights = vec![sun];
+    for ao in [None, Some(AoOptions { d_max: 1.5, samples: 16, per_pixel: true, ..AoOptions::default() })] {
+        let at = |mode| {
+            let o = RenderOptions { shading: mode, ..options(ao, true) };
+            render(&s, &camera(), &o).unwrap()
+        };
+        let phong = at(ShadingMode::Phong);
+        let floor: Vec<usize> = (0..phong.hdr.len()).filter(|&i| phong.triangle_id[i] < 2).collect();
+        let shadowed = floor.iter().filter(|&&i| phong.hdr[i].x < 0.3).count();
+        assert!(shadowed > 400, "{shadowed} shadowed floor pixels");
+        for mode in [ShadingMode::Flat, ShadingMode::Gouraud] {
+            let f = at(mode);
+            for &i in &floor {
+                let (a, b) = (f.hdr[i], phong.hdr[i]);
+                assert!(
+                    (a - b).abs().max_element() < 2e-6,
+                    "{mode:?}, ao {}: pixel {i}: {a} vs {b}",
+                    ao.is_some()
+                );
+            }
+        }
     }
 }
 
@@ -188,4 +224,45 @@ fn stored_per_vertex_obscurance_is_interpolated_for_its_instance_and_checked() {
         let e = SceneOcclusion::with_stored(&s, Some(ao), false, bad).err().expect("refused").to_string();
         assert!(e.starts_with("obscurance"), "{e}");
     }
+}
+
+#[test]
+fn the_occlusion_cache_reuses_the_bvh_and_obscurance_only_while_the_geometry_is_unchanged() {
+    use brdf_raster::occlusion::OcclusionCache;
+    use brdf_raster::render::render_with;
+    let sun = Light::directional(Vec3::new(1.0, -1.0, 0.3), Vec3::ONE).unwrap();
+    let mut s = scene(0.2, vec![sun], true);
+    let opts = AoOptions { d_max: 1.0, samples: 8, ..AoOptions::default() };
+    let ao = Some(opts);
+    let mut cache = OcclusionCache::new();
+    let stored = |s: &Scene| vec![None; s.instances.len()];
+    // A cached render is the render, bit for bit, whatever was cached before it.
+    let check = |cache: &mut OcclusionCache, s: &Scene, ao: Option<AoOptions>, want: (u64, u64)| {
+        let occ = cache.get(s, ao, true, stored(s)).unwrap();
+        let frame = render_with(s, &camera(), &options(ao, true), &occ, None).unwrap();
+        assert_eq!(frame, render(s, &camera(), &options(ao, true)).unwrap());
+        assert_eq!(cache.stats(), want);
+    };
+    check(&mut cache, &s, ao, (0, 1));
+    check(&mut cache, &s, ao, (1, 1));
+    // Lights and materials are not part of the key.
+    s.lights.push(Light::directional(Vec3::new(-1.0, -1.0, 0.0), Vec3::splat(0.5)).unwrap());
+    s.instances[0].material.ambient = Vec3::splat(0.3);
+    check(&mut cache, &s, ao, (2, 1));
+    // A moved instance, another mesh (even with the same content), other options: prepared again.
+    s.instances[1].transform = Mat4::from_translation(Vec3::new(0.5, 1.0, 0.0));
+    check(&mut cache, &s, ao, (2, 2));
+    s.instances[1].mesh = Arc::new((*s.instances[1].mesh).clone());
+    check(&mut cache, &s, ao, (2, 3));
+    check(&mut cache, &s, Some(AoOptions { samples: 9, ..opts }), (2, 4));
+    check(&mut cache, &s, None, (2, 5));
+    // Stored obscurance is part of the key.
+    let w = vec![0.5; s.instances[0].mesh.positions.len()];
+    let occ = cache.get(&s, ao, true, vec![Some(w), None]).unwrap();
+    assert_eq!(occ.vertex_obscurance(0)[0], 0.5);
+    assert_eq!(cache.stats(), (2, 6));
+    // Data made for another scene is refused.
+    let other = scene(0.2, vec![], false);
+    let data = std::sync::Arc::clone(occ.data());
+    assert!(brdf_raster::occlusion::SceneOcclusion::from_data(&other, data).is_err());
 }

@@ -14,36 +14,60 @@
 
 use glam::Vec3A;
 
+use crate::simd::{Lane, V3};
+
 /// Exponent `nu cos²φ_h + nv sin²φ_h` for a unit local half vector; `(nu + nv)/2` at h = n, where
 /// the power is 1 whatever the exponent.
 #[inline]
 pub fn exponent(h: Vec3A, nu: f32, nv: f32) -> f32 {
-    let s2 = h.x * h.x + h.y * h.y;
-    if s2 > 0.0 { (nu * h.x * h.x + nv * h.y * h.y) / s2 } else { 0.5 * (nu + nv) }
+    exponent_lanes(V3::from(h), nu, nv)
+}
+
+/// [`exponent`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn exponent_lanes<F: Lane>(h: V3<F>, nu: f32, nv: f32) -> F {
+    let (x2, y2) = (h.x * h.x, h.y * h.y);
+    let s2 = x2 + y2;
+    let e = (F::splat(nu) * x2 + F::splat(nv) * y2) / s2;
+    F::select(s2.gt(F::splat(0.0)), e, F::splat(0.5 * (nu + nv)))
 }
 
 /// Microfacet-normalised AS distribution [1/sr]: `√((nu+2)(nv+2))/(2π) · (n·h)^e`; 0 for `hz ≤ 0`.
 /// Exponents are clamped to ≥ 0.
 #[inline]
 pub fn d(h: Vec3A, nu: f32, nv: f32) -> f32 {
-    if !(h.z > 0.0) {
-        return 0.0;
-    }
+    d_lanes(V3::from(h), nu, nv)
+}
+
+/// [`d`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn d_lanes<F: Lane>(h: V3<F>, nu: f32, nv: f32) -> F {
     let (nu, nv) = (nu.max(0.0), nv.max(0.0));
-    ((nu + 2.0) * (nv + 2.0)).sqrt()
-        * (0.5 * std::f32::consts::FRAC_1_PI)
-        * h.z.min(1.0).powf(exponent(h, nu, nv))
+    normalised_power(h, nu, nv, ((nu + 2.0) * (nv + 2.0)).sqrt())
+}
+
+/// `k/(2π) · (n·h)^e`, 0 for `hz ≤ 0`.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn normalised_power<F: Lane>(h: V3<F>, nu: f32, nv: f32, k: f32) -> F {
+    let p = F::splat(k * (0.5 * std::f32::consts::FRAC_1_PI))
+        * h.z.min(F::splat(1.0)).powf(exponent_lanes(h, nu, nv));
+    F::select(h.z.gt(F::splat(0.0)), p, F::splat(0.0))
 }
 
 /// AS2000's half-vector density [1/sr]: `√((nu+1)(nv+1))/(2π) · (n·h)^e`, `∫ pdf_h dω_h = 1`;
 /// 0 for `hz ≤ 0`. Exponents are clamped to ≥ 0.
 #[inline]
 pub fn pdf_h(h: Vec3A, nu: f32, nv: f32) -> f32 {
-    if !(h.z > 0.0) {
-        return 0.0;
-    }
+    pdf_h_lanes(V3::from(h), nu, nv)
+}
+
+/// [`pdf_h`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn pdf_h_lanes<F: Lane>(h: V3<F>, nu: f32, nv: f32) -> F {
     let (nu, nv) = (nu.max(0.0), nv.max(0.0));
-    ((nu + 1.0) * (nv + 1.0)).sqrt()
-        * (0.5 * std::f32::consts::FRAC_1_PI)
-        * h.z.min(1.0).powf(exponent(h, nu, nv))
+    normalised_power(h, nu, nv, ((nu + 1.0) * (nv + 1.0)).sqrt())
 }

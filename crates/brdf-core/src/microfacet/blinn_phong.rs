@@ -7,6 +7,7 @@
 //! ([`exponent_from_alpha`]); the same relation gives a Smith Λ for this D (see `masking`).
 
 use crate::microfacet::{ALPHA_MIN, HalfVector};
+use crate::simd::Lane;
 
 /// Largest exponent used: the one of [`ALPHA_MIN`] (`2/α² − 2 ≈ 2e8`); keeps `(m+2)/(2π)` finite and
 /// consistent with the roughness floor of the other distributions.
@@ -16,11 +17,17 @@ pub const EXPONENT_MAX: f32 = 2.0 / (ALPHA_MIN * ALPHA_MIN) - 2.0;
 /// 0 for `cos_h ≤ 0`.
 #[inline]
 pub fn d(cos_h: f32, exponent: f32) -> f32 {
-    if !(cos_h > 0.0) {
-        return 0.0;
-    }
+    d_lanes(cos_h, exponent)
+}
+
+/// [`d`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn d_lanes<F: Lane>(cos_h: F, exponent: f32) -> F {
     let m = exponent.clamp(0.0, EXPONENT_MAX);
-    (m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI) * cos_h.min(1.0).powf(m)
+    let d = F::splat((m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI))
+        * cos_h.min(F::splat(1.0)).powf(F::splat(m));
+    F::select(cos_h.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 
 /// Blinn–Phong `D` [1/sr] from the un-normalised half vector `h̃ = l + v` ([`HalfVector`]):
@@ -30,13 +37,19 @@ pub fn d(cos_h: f32, exponent: f32) -> f32 {
 /// 0 for `n·h̃ ≤ 0`.
 #[inline]
 pub fn d_half(h: &HalfVector<f32>, exponent: f32) -> f32 {
-    if !(h.n_dot > 0.0) {
-        return 0.0;
-    }
+    d_half_lanes(h, exponent)
+}
+
+/// [`d_half`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn d_half_lanes<F: Lane>(h: &HalfVector<F>, exponent: f32) -> F {
     let m = exponent.clamp(0.0, EXPONENT_MAX);
+    let tan2 = h.tan2();
     // m = 0 is the uniform (n·h)⁰ = 1, also where tan²θ = ∞ (0 · ∞ would be NaN).
-    let power = if m == 0.0 { 1.0 } else { (-0.5 * m * h.tan2().ln_1p()).exp() };
-    (m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI) * power
+    let power = if m == 0.0 { F::splat(1.0) } else { (F::splat(-0.5 * m) * tan2.ln_1p()).exp() };
+    let d = F::splat((m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI)) * power;
+    F::select(h.n_dot.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 
 /// Walter et al. 2007 §5.2: the Blinn–Phong exponent equivalent to Beckmann roughness α,

@@ -13,6 +13,7 @@
 //! f32. For small m, `c → 1/(π m²)`: the Gaussian and Beckmann distributions agree for small slopes.
 
 use crate::microfacet::{ALPHA_MIN, HalfVector};
+use crate::simd::Lane;
 
 /// Normalisation constant `c(m)` [1/sr] of the Gaussian distribution (see the module docs).
 /// `m` is clamped to ≥ [`ALPHA_MIN`].
@@ -35,12 +36,23 @@ pub fn normalization(m: f32) -> f32 {
 /// `c · exp(−(acos(cos_h)/m)²)`; 0 for `cos_h ≤ 0`.
 #[inline]
 pub fn d_with_normalization(cos_h: f32, m: f32, c: f32) -> f32 {
-    if !(cos_h > 0.0) {
-        return 0.0;
-    }
-    let m = m.max(ALPHA_MIN);
-    let theta = cos_h.min(1.0).acos();
-    c * (-(theta / m) * (theta / m)).exp()
+    d_with_normalization_lanes(cos_h, m, c)
+}
+
+/// [`d_with_normalization`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn d_with_normalization_lanes<F: Lane>(cos_h: F, m: f32, c: f32) -> F {
+    let theta = cos_h.min(F::splat(1.0)).acos();
+    F::select(cos_h.gt(F::splat(0.0)), of_angle(theta, m, c), F::splat(0.0))
+}
+
+/// `c · exp(−(θ/m)²)`.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn of_angle<F: Lane>(theta: F, m: f32, c: f32) -> F {
+    let t = theta / F::splat(m.max(ALPHA_MIN));
+    F::splat(c) * (-t * t).exp()
 }
 
 /// Gaussian `D` [1/sr] from the un-normalised half vector `h̃ = l + v` ([`HalfVector`]) given
@@ -49,12 +61,15 @@ pub fn d_with_normalization(cos_h: f32, m: f32, c: f32) -> f32 {
 /// `acos(cos θ_h)` loses half the digits (and see [`crate::microfacet::half`]). 0 for `n·h̃ ≤ 0`.
 #[inline]
 pub fn d_half_with_normalization(h: &HalfVector<f32>, m: f32, c: f32) -> f32 {
-    if !(h.n_dot > 0.0) {
-        return 0.0;
-    }
-    let m = m.max(ALPHA_MIN);
+    d_half_with_normalization_lanes(h, m, c)
+}
+
+/// [`d_half_with_normalization`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn d_half_with_normalization_lanes<F: Lane>(h: &HalfVector<F>, m: f32, c: f32) -> F {
     let theta = h.perp2.sqrt().atan2(h.n_dot);
-    c * (-(theta / m) * (theta / m)).exp()
+    F::select(h.n_dot.gt(F::splat(0.0)), of_angle(theta, m, c), F::splat(0.0))
 }
 
 /// Gaussian `D` [1/sr] at `cos_h` for roughness `m` \[rad\]. Computes `c(m)` by quadrature on every
@@ -90,5 +105,19 @@ impl Gaussian {
     #[inline]
     pub fn d_half(&self, h: &HalfVector<f32>) -> f32 {
         d_half_with_normalization(h, self.m, self.c)
+    }
+
+    /// [`Gaussian::d`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn d_lanes<F: Lane>(&self, cos_h: F) -> F {
+        d_with_normalization_lanes(cos_h, self.m, self.c)
+    }
+
+    /// [`Gaussian::d_half`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn d_half_lanes<F: Lane>(&self, h: &HalfVector<F>) -> F {
+        d_half_with_normalization_lanes(h, self.m, self.c)
     }
 }

@@ -10,7 +10,7 @@
 use glam::Vec3A;
 
 use crate::microfacet::{ALPHA_MIN, HalfVector};
-use crate::simd::Lane;
+use crate::simd::{Lane, V3};
 
 /// Isotropic GGX `D` [1/sr] at `cos_h` = n·h for roughness α (clamped to ≥ [`ALPHA_MIN`]);
 /// 0 for `cos_h ≤ 0` (the χ⁺ of seed 001).
@@ -20,7 +20,8 @@ pub fn d(cos_h: f32, alpha: f32) -> f32 {
 }
 
 /// [`d`] on lanes (the one place its formula is written; see [`crate::simd`]).
-#[inline(always)]
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn d_lanes<F: Lane>(cos_h: F, alpha: f32) -> F {
     let a2 = {
         let a = alpha.max(ALPHA_MIN);
@@ -42,7 +43,8 @@ pub fn d_half(h: &HalfVector<f32>, alpha: f32) -> f32 {
 }
 
 /// [`d_half`] on lanes (the one place its formula is written; see [`crate::simd`]).
-#[inline(always)]
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn d_half_lanes<F: Lane>(h: &HalfVector<F>, alpha: f32) -> F {
     let a2 = {
         let a = alpha.max(ALPHA_MIN);
@@ -59,44 +61,74 @@ pub fn d_half_lanes<F: Lane>(h: &HalfVector<F>, alpha: f32) -> F {
 /// `1 / (π αx αy (hx²/αx² + hy²/αy² + hz²)²)` (pbrt-v4 `TrowbridgeReitzDistribution::D`).
 #[inline]
 pub fn d_aniso(h: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
-    if !(h.z > 0.0) {
-        return 0.0;
-    }
+    d_aniso_lanes(V3::from(h), alpha_x, alpha_y)
+}
+
+/// [`d_aniso`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn d_aniso_lanes<F: Lane>(h: V3<F>, alpha_x: f32, alpha_y: f32) -> F {
     let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
-    let x = h.x / ax;
-    let y = h.y / ay;
+    let x = h.x / F::splat(ax);
+    let y = h.y / F::splat(ay);
     let t = x * x + y * y + h.z * h.z;
-    std::f32::consts::FRAC_1_PI / (ax * ay * t * t)
+    let d = F::splat(std::f32::consts::FRAC_1_PI) / (F::splat(ax * ay) * t * t);
+    F::select(h.z.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 
 /// Smith `Λ` of GGX for a direction at `cos_theta` = n·w: `Λ = (√(1 + α² tan²θ) − 1)/2`
 /// (Walter et al. 2007 eq. 34 via G1 = 1/(1+Λ); Heitz 2014). +∞ for `cos_theta ≤ 0`.
 #[inline]
 pub fn lambda(cos_theta: f32, alpha: f32) -> f32 {
-    if !(cos_theta > 0.0) {
-        return f32::INFINITY;
-    }
+    lambda_lanes(cos_theta, alpha)
+}
+
+/// [`lambda`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn lambda_lanes<F: Lane>(cos_theta: F, alpha: f32) -> F {
     let a = alpha.max(ALPHA_MIN);
-    let c2 = (cos_theta * cos_theta).min(1.0);
-    let a2_tan2 = a * a * (1.0 - c2) / c2;
-    0.5 * ((1.0 + a2_tan2).sqrt() - 1.0)
+    let c2 = (cos_theta * cos_theta).min(F::splat(1.0));
+    let s2 = F::splat(1.0) - c2;
+    let a2_tan2 = F::splat(a * a) * s2 / c2;
+    lambda_from_a2_tan2(cos_theta, a2_tan2, || F::splat(a) * s2.sqrt() / cos_theta.abs())
+}
+
+/// `Λ = (√(1 + α² tan²θ) − 1)/2`, +∞ where `cos θ ≤ 0`.
+///
+/// Near grazing, `α² tan²θ` overflows float32 (at `cos θ = 10⁻²⁰`, say) long before `Λ ≈ α tanθ/2`
+/// does: past 10³⁰ (where `√(1 + q) − 1 = √q` to float32 precision) `Λ` is taken from `a_tan() = α tanθ`
+/// instead, and a `Λ` beyond float32 saturates at `f32::MAX` (so `G1 = 1/(1 + Λ)` is still 0, and a
+/// direction above the surface never gets the +∞ that means "below").
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn lambda_from_a2_tan2<F: Lane>(cos_theta: F, a2_tan2: F, a_tan: impl Fn() -> F) -> F {
+    let half = F::splat(0.5);
+    let l = half * ((F::splat(1.0) + a2_tan2).sqrt() - F::splat(1.0));
+    let huge = a2_tan2.gt(F::splat(1e30));
+    let l = if F::mask_all(!huge) { l } else { F::select(huge, half * a_tan(), l) };
+    F::select(cos_theta.gt(F::splat(0.0)), l.min(F::splat(f32::MAX)), F::splat(f32::INFINITY))
 }
 
 /// Anisotropic Smith `Λ` of GGX for a unit local direction: α² tan²θ →
 /// `(wx² αx² + wy² αy²)/wz²` (α projected on the direction's azimuth; pbrt-v4 `Lambda`).
 #[inline]
 pub fn lambda_aniso(w: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
-    if !(w.z > 0.0) {
-        return f32::INFINITY;
-    }
-    let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
-    let a2_tan2 = ((w.x * ax).powi(2) + (w.y * ay).powi(2)) / (w.z * w.z);
-    0.5 * ((1.0 + a2_tan2).sqrt() - 1.0)
+    lambda_aniso_lanes(V3::from(w), alpha_x, alpha_y)
+}
+
+/// [`lambda_aniso`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn lambda_aniso_lanes<F: Lane>(w: V3<F>, alpha_x: f32, alpha_y: f32) -> F {
+    let (ax, ay) = (F::splat(alpha_x.max(ALPHA_MIN)), F::splat(alpha_y.max(ALPHA_MIN)));
+    let (x, y) = (w.x * ax, w.y * ay);
+    let r2 = x * x + y * y;
+    lambda_from_a2_tan2(w.z, r2 / (w.z * w.z), || r2.sqrt() / w.z.abs())
 }
 
 /// Smith masking of one direction for GGX, `G1 = 1/(1 + Λ) = 2/(1 + √(1 + α² tan²θ))`
-/// (seed 001 "G alternative (GGX)"; Walter et al. 2007 eq. 34). 0 for `cos_theta ≤ 0`, 1 at normal
-/// incidence.
+/// (Walter et al. 2007 eq. 34). 0 for `cos_theta ≤ 0`, 1 at normal incidence.
 #[inline]
 pub fn g1(cos_theta: f32, alpha: f32) -> f32 {
     1.0 / (1.0 + lambda(cos_theta, alpha))
@@ -113,7 +145,8 @@ pub fn visibility_height_correlated(nl: f32, nv: f32, alpha: f32) -> f32 {
 }
 
 /// [`visibility_height_correlated`] on lanes (the one place its formula is written).
-#[inline(always)]
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn visibility_height_correlated_lanes<F: Lane>(nl: F, nv: F, alpha: f32) -> F {
     let (ll, lv) = lambda_roots(nl, nv, alpha);
     let v = F::splat(0.5) / (nv * ll + nl * lv);
@@ -122,7 +155,8 @@ pub fn visibility_height_correlated_lanes<F: Lane>(nl: F, nv: F, alpha: f32) -> 
 
 /// `√((n·l)²(1 − α²) + α²)` and the same for `n·v`: `(n·w) √(1 + α² tan²θ_w)`, the root in both GGX
 /// visibility forms.
-#[inline(always)]
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn lambda_roots<F: Lane>(nl: F, nv: F, alpha: f32) -> (F, F) {
     let a = alpha.max(ALPHA_MIN);
     let a2 = a * a;
@@ -130,7 +164,8 @@ fn lambda_roots<F: Lane>(nl: F, nv: F, alpha: f32) -> (F, F) {
     ((nl * nl * one_minus_a2 + a2).sqrt(), (nv * nv * one_minus_a2 + a2).sqrt())
 }
 
-#[inline(always)]
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn both_positive<F: Lane>(nl: F, nv: F) -> F::Mask {
     nl.gt(F::splat(0.0)) & nv.gt(F::splat(0.0))
 }
@@ -144,7 +179,8 @@ pub fn visibility_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
 }
 
 /// [`visibility_separable`] on lanes (the one place its formula is written).
-#[inline(always)]
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn visibility_separable_lanes<F: Lane>(nl: F, nv: F, alpha: f32) -> F {
     let (ll, lv) = lambda_roots(nl, nv, alpha);
     let v = F::splat(1.0) / ((nl + ll) * (nv + lv));

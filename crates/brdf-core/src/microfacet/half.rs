@@ -41,7 +41,8 @@ pub struct HalfVector<F> {
 impl<F: Lane> HalfVector<F> {
     /// From unit `l`, `v`, `n`: `h̃` summed component by component, then projected on `n` and on
     /// its tangent plane (no cancellation beyond one rounding per component; module docs).
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn from_directions(l: V3<F>, v: V3<F>, n: V3<F>) -> Self {
         let s = l + v;
         let n_dot = s.dot(n);
@@ -52,7 +53,8 @@ impl<F: Lane> HalfVector<F> {
     /// From the cosines alone: `n·h̃ = n·l + n·v`, `|h̃|² = 2 + 2 l·v`, `|h̃⊥|² = |h̃|² − (n·h̃)²`
     /// (clamped at 0). Exact in real arithmetic, but it cancels in f32 where `l ≈ −v` or where
     /// `h ≈ n` (module docs): prefer [`HalfVector::from_directions`] when the vectors are at hand.
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn from_cosines(nl: F, nv: F, lv: F) -> Self {
         let len2 = F::splat(2.0) + F::splat(2.0) * lv;
         let n_dot = nl + nv;
@@ -61,16 +63,16 @@ impl<F: Lane> HalfVector<F> {
     }
 
     /// Lane `i` as a scalar half vector.
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn lane(&self, i: usize) -> HalfVector<f32> {
         HalfVector { n_dot: self.n_dot.lane(i), perp2: self.perp2.lane(i), len2: self.len2.lane(i) }
     }
-}
 
-impl HalfVector<f32> {
     /// `tan²θ_h = |h̃⊥|²/(n·h̃)²` (+∞ when `h` lies in the tangent plane).
-    #[inline]
-    pub fn tan2(&self) -> f32 {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn tan2(&self) -> F {
         self.perp2 / (self.n_dot * self.n_dot)
     }
 }

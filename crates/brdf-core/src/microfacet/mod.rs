@@ -34,10 +34,15 @@ pub use half::HalfVector;
 
 use crate::BrdfError;
 use crate::frame::ShadingFrame;
-use crate::simd::Lane;
+use crate::simd::{Lane, V3};
 
 /// Smallest roughness α used anywhere (pbrt-v4's floor; see the module docs).
 pub const ALPHA_MIN: f32 = 1e-4;
+
+/// Largest roughness α accepted by name ([`Distribution::from_name`]): RMS slopes of 10⁴ are facets
+/// within 0.006° of vertical, far past any surface (α = 1 is already very rough); above it the
+/// slope arithmetic (`α² tan²θ`) leaves float32.
+pub const ALPHA_MAX: f32 = 1e4;
 
 /// Registry names of the distributions, in documentation order.
 pub const DISTRIBUTION_NAMES: [&str; 6] =
@@ -137,8 +142,8 @@ impl Distribution {
         let key = name.to_ascii_lowercase();
         let exponents = key == "ashikhmin_shirley";
         let check = |arg: &str, x: f32| {
-            if !x.is_finite() || x < 0.0 || (x == 0.0 && !exponents) {
-                let want = if exponents { ">= 0" } else { "> 0" };
+            if !x.is_finite() || x < 0.0 || (x == 0.0 && !exponents) || (x > ALPHA_MAX && !exponents) {
+                let want = if exponents { ">= 0".to_string() } else { format!("in (0, {ALPHA_MAX}]") };
                 Err(BrdfError::param(arg, format!("must be finite and {want}, got {x}")))
             } else {
                 Ok(x)
@@ -216,13 +221,21 @@ impl Distribution {
     /// `D(h)` [1/sr] for a unit half vector in the local frame (z = normal, x = tangent).
     #[inline]
     pub fn d(&self, h: Vec3A) -> f32 {
+        self.d_lanes(V3::from(h))
+    }
+
+    /// [`Distribution::d`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn d_lanes<F: Lane>(&self, h: V3<F>) -> F {
         match *self {
-            Distribution::Beckmann { alpha_x, alpha_y } => beckmann::d_aniso(h, alpha_x, alpha_y),
-            Distribution::Ggx { alpha_x, alpha_y } => ggx::d_aniso(h, alpha_x, alpha_y),
-            Distribution::Gaussian(g) => g.d(h.z),
-            Distribution::BlinnPhong { exponent } => blinn_phong::d(h.z, exponent),
-            Distribution::Ward { alpha_x, alpha_y } => ward::d(h, alpha_x, alpha_y),
-            Distribution::AshikhminShirley { nu, nv } => ashikhmin_shirley::d(h, nu, nv),
+            Distribution::Beckmann { alpha_x, alpha_y } | Distribution::Ward { alpha_x, alpha_y } => {
+                beckmann::d_aniso_lanes(h, alpha_x, alpha_y)
+            }
+            Distribution::Ggx { alpha_x, alpha_y } => ggx::d_aniso_lanes(h, alpha_x, alpha_y),
+            Distribution::Gaussian(g) => g.d_lanes(h.z),
+            Distribution::BlinnPhong { exponent } => blinn_phong::d_lanes(h.z, exponent),
+            Distribution::AshikhminShirley { nu, nv } => ashikhmin_shirley::d_lanes(h, nu, nv),
         }
     }
 
@@ -231,23 +244,21 @@ impl Distribution {
     /// `alpha_x` / `nu`): build a frame and call [`Distribution::d`] instead.
     #[inline]
     pub fn d_cos(&self, cos_h: f32) -> f32 {
-        match *self {
-            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
-                beckmann::d(cos_h, alpha_x)
-            }
-            Distribution::Ggx { alpha_x, .. } => ggx::d(cos_h, alpha_x),
-            Distribution::Gaussian(g) => g.d(cos_h),
-            Distribution::BlinnPhong { exponent } => blinn_phong::d(cos_h, exponent),
-            Distribution::AshikhminShirley { nu, .. } => blinn_phong::d(cos_h, nu),
-        }
+        self.d_cos_lanes(cos_h)
     }
 
-    /// [`Distribution::d_cos`] on lanes: GGX in its wide form, the others lane by lane.
-    #[inline(always)]
+    /// [`Distribution::d_cos`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn d_cos_lanes<F: Lane>(&self, cos_h: F) -> F {
         match *self {
+            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
+                beckmann::d_lanes(cos_h, alpha_x)
+            }
             Distribution::Ggx { alpha_x, .. } => ggx::d_lanes(cos_h, alpha_x),
-            _ => cos_h.map(|c| self.d_cos(c)),
+            Distribution::Gaussian(g) => g.d_lanes(cos_h),
+            Distribution::BlinnPhong { exponent } => blinn_phong::d_lanes(cos_h, exponent),
+            Distribution::AshikhminShirley { nu, .. } => blinn_phong::d_lanes(cos_h, nu),
         }
     }
 
@@ -257,23 +268,21 @@ impl Distribution {
     /// ([`crate::microfacet::half`]).
     #[inline]
     pub fn d_half(&self, h: &HalfVector<f32>) -> f32 {
-        match *self {
-            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
-                beckmann::d_half(h, alpha_x)
-            }
-            Distribution::Ggx { alpha_x, .. } => ggx::d_half(h, alpha_x),
-            Distribution::Gaussian(g) => g.d_half(h),
-            Distribution::BlinnPhong { exponent } => blinn_phong::d_half(h, exponent),
-            Distribution::AshikhminShirley { nu, .. } => blinn_phong::d_half(h, nu),
-        }
+        self.d_half_lanes(h)
     }
 
-    /// [`Distribution::d_half`] on lanes: GGX in its wide form, the others lane by lane.
-    #[inline(always)]
+    /// [`Distribution::d_half`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn d_half_lanes<F: Lane>(&self, h: &HalfVector<F>) -> F {
         match *self {
+            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
+                beckmann::d_half_lanes(h, alpha_x)
+            }
             Distribution::Ggx { alpha_x, .. } => ggx::d_half_lanes(h, alpha_x),
-            _ => F::from_fn(|i| self.d_half(&h.lane(i))),
+            Distribution::Gaussian(g) => g.d_half_lanes(h),
+            Distribution::BlinnPhong { exponent } => blinn_phong::d_half_lanes(h, exponent),
+            Distribution::AshikhminShirley { nu, .. } => blinn_phong::d_half_lanes(h, nu),
         }
     }
 
@@ -308,11 +317,18 @@ impl Distribution {
     /// Beckmann (module docs). +∞ below the horizon.
     #[inline]
     pub fn lambda(&self, w: Vec3A) -> f32 {
+        self.lambda_lanes(V3::from(w))
+    }
+
+    /// [`Distribution::lambda`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn lambda_lanes<F: Lane>(&self, w: V3<F>) -> F {
         match *self {
-            Distribution::Ggx { alpha_x, alpha_y } => ggx::lambda_aniso(w, alpha_x, alpha_y),
+            Distribution::Ggx { alpha_x, alpha_y } => ggx::lambda_aniso_lanes(w, alpha_x, alpha_y),
             _ => {
                 let (ax, ay) = self.beckmann_equivalent();
-                beckmann::lambda_aniso(w, ax, ay)
+                beckmann::lambda_aniso_lanes(w, ax, ay)
             }
         }
     }
@@ -320,12 +336,16 @@ impl Distribution {
     /// Smith `Λ` from `cos θ` alone (isotropic; anisotropic ones at φ = 0, as [`Distribution::d_cos`]).
     #[inline]
     pub fn lambda_cos(&self, cos_theta: f32) -> f32 {
+        self.lambda_cos_lanes(cos_theta)
+    }
+
+    /// [`Distribution::lambda_cos`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn lambda_cos_lanes<F: Lane>(&self, cos_theta: F) -> F {
         match *self {
-            Distribution::Ggx { alpha_x, .. } => ggx::lambda(cos_theta, alpha_x),
-            Distribution::Beckmann { alpha_x, .. } | Distribution::Ward { alpha_x, .. } => {
-                beckmann::lambda(cos_theta, alpha_x)
-            }
-            _ => beckmann::lambda(cos_theta, self.beckmann_equivalent().0),
+            Distribution::Ggx { alpha_x, .. } => ggx::lambda_lanes(cos_theta, alpha_x),
+            _ => beckmann::lambda_lanes(cos_theta, self.beckmann_equivalent().0),
         }
     }
 
@@ -334,6 +354,23 @@ impl Distribution {
     pub fn g1(&self, w: Vec3A) -> f32 {
         1.0 / (1.0 + self.lambda(w))
     }
+}
+
+/// `Σ wᵢ tᵢ` over the lobes of a mixture for the per-lobe term `$term` of `$d`: the first lobe starts
+/// the sum (Σ of one lobe is just w·t, with no extra rounding). A macro and a plain loop rather than
+/// a closure or an iterator fold: a closure is a function of its own, compiled without the AVX2
+/// target feature of the batch kernel, and the lane intrinsics in it would become calls (measured:
+/// Beckmann Cook–Torrance 25× slower).
+macro_rules! lobe_sum {
+    ($mix:expr, |$d:ident| $term:expr) => {{
+        // `$term` is expanded once (a debug build gives every expansion its own stack slots).
+        let mut sum = F::splat(0.0);
+        for (i, (w, $d)) in $mix.lobes().iter().enumerate() {
+            let t = F::splat(*w) * $term;
+            sum = if i == 0 { t } else { sum + t };
+        }
+        sum
+    }};
 }
 
 /// Most lobes a [`Mixture`] holds (fixed so a mixture is `Copy` and never allocates).
@@ -402,7 +439,14 @@ impl Mixture {
     /// `Σ wᵢ Dᵢ(h)` [1/sr], local frame.
     #[inline]
     pub fn d(&self, h: Vec3A) -> f32 {
-        self.lobes().iter().map(|(w, d)| w * d.d(h)).sum()
+        self.d_lanes(V3::from(h))
+    }
+
+    /// [`Mixture::d`] on lanes (summed as [`Mixture::d_cos_lanes`]).
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn d_lanes<F: Lane>(&self, h: V3<F>) -> F {
+        lobe_sum!(self, |d| d.d_lanes(h))
     }
 
     /// `Σ wᵢ Dᵢ` from `cos θ_h` (see [`Distribution::d_cos`]).
@@ -412,16 +456,10 @@ impl Mixture {
     }
 
     /// [`Mixture::d_cos`] on lanes.
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn d_cos_lanes<F: Lane>(&self, cos_h: F) -> F {
-        // The first lobe starts the sum (Σ of one lobe is just w·D, with no extra rounding). A plain
-        // loop, not an iterator fold, so that it always inlines into the batch kernel.
-        let lobes = self.lobes();
-        let mut sum = F::splat(lobes[0].0) * lobes[0].1.d_cos_lanes(cos_h);
-        for (w, d) in &lobes[1..] {
-            sum = sum + F::splat(*w) * d.d_cos_lanes(cos_h);
-        }
-        sum
+        lobe_sum!(self, |d| d.d_cos_lanes(cos_h))
     }
 
     /// `Σ wᵢ Dᵢ` from the un-normalised half vector (see [`Distribution::d_half`]).
@@ -431,31 +469,100 @@ impl Mixture {
     }
 
     /// [`Mixture::d_half`] on lanes (summed as [`Mixture::d_cos_lanes`]).
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn d_half_lanes<F: Lane>(&self, h: &HalfVector<F>) -> F {
-        let lobes = self.lobes();
-        let mut sum = F::splat(lobes[0].0) * lobes[0].1.d_half_lanes(h);
-        for (w, d) in &lobes[1..] {
-            sum = sum + F::splat(*w) * d.d_half_lanes(h);
-        }
-        sum
+        lobe_sum!(self, |d| d.d_half_lanes(h))
     }
 
     /// `Σ wᵢ Λᵢ(w)`, local frame.
     #[inline]
     pub fn lambda(&self, w: Vec3A) -> f32 {
-        self.lobes().iter().map(|(wt, d)| wt * d.lambda(w)).sum()
+        self.lambda_lanes(V3::from(w))
+    }
+
+    /// [`Mixture::lambda`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn lambda_lanes<F: Lane>(&self, w: V3<F>) -> F {
+        lobe_sum!(self, |d| d.lambda_lanes(w))
     }
 
     /// `Σ wᵢ Λᵢ` from `cos θ`.
     #[inline]
     pub fn lambda_cos(&self, cos_theta: f32) -> f32 {
-        self.lobes().iter().map(|(wt, d)| wt * d.lambda_cos(cos_theta)).sum()
+        self.lambda_cos_lanes(cos_theta)
+    }
+
+    /// [`Mixture::lambda_cos`] on lanes.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn lambda_cos_lanes<F: Lane>(&self, cos_theta: F) -> F {
+        lobe_sum!(self, |d| d.lambda_cos_lanes(cos_theta))
     }
 }
 
 impl From<Distribution> for Mixture {
     fn from(d: Distribution) -> Self {
         Self::single(d)
+    }
+}
+
+#[cfg(test)]
+mod lane_tests {
+    use super::*;
+    use crate::simd::{F32x8, LaneKernel, run_widest};
+
+    /// The six distributions, anisotropic where they can be, and a mixture.
+    fn distributions() -> Vec<Mixture> {
+        vec![
+            Distribution::ggx_aniso(0.2, 0.5).into(),
+            Distribution::beckmann_aniso(0.3, 0.1).into(),
+            Distribution::gaussian(0.25).into(),
+            Distribution::blinn_phong(50.0).into(),
+            Distribution::ward(0.15, 0.4).into(),
+            Distribution::ashikhmin_shirley(10.0, 300.0).into(),
+            Mixture::new(&[(0.5, Distribution::ggx(0.1)), (0.5, Distribution::beckmann(0.4))]).unwrap(),
+        ]
+    }
+
+    struct Compare;
+
+    impl LaneKernel for Compare {
+        #[cfg_attr(debug_assertions, inline)]
+        #[cfg_attr(not(debug_assertions), inline(always))]
+        fn run<F: Lane>(self) {
+            let dirs: Vec<Vec3A> = (0..101)
+                .map(|i| {
+                    let t = i as f32 * 0.37;
+                    let z = if i % 10 == 0 { -0.2 } else { (t * 0.71).cos().abs() };
+                    Vec3A::new(t.sin(), (t * 1.3).cos(), z).normalize()
+                })
+                .collect();
+            for m in distributions() {
+                for c in dirs.chunks_exact(F::LANES) {
+                    let w = V3 {
+                        x: F::from_fn(|i| c[i].x),
+                        y: F::from_fn(|i| c[i].y),
+                        z: F::from_fn(|i| c[i].z),
+                    };
+                    let (d, l, lc, dc) =
+                        (m.d_lanes(w), m.lambda_lanes(w), m.lambda_cos_lanes(w.z), m.d_cos_lanes(w.z));
+                    for (i, h) in c.iter().enumerate() {
+                        let same = |a: f32, b: f32| a.to_bits() == b.to_bits();
+                        assert!(same(d.lane(i), m.d(*h)), "{m:?} D({h})");
+                        assert!(same(l.lane(i), m.lambda(*h)), "{m:?} Lambda({h})");
+                        assert!(same(lc.lane(i), m.lambda_cos(h.z)), "{m:?} Lambda_cos({h})");
+                        assert!(same(dc.lane(i), m.d_cos(h.z)), "{m:?} D_cos({h})");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_distribution_and_lambda_gives_the_scalar_bits_in_every_lane_type() {
+        Compare.run::<F32x8>();
+        run_widest(Compare);
     }
 }

@@ -11,6 +11,7 @@
 use glam::Vec3A;
 
 use crate::microfacet::{ALPHA_MIN, beckmann};
+use crate::simd::{Lane, V3};
 
 /// Normalised anisotropic Ward distribution of normals [1/sr] for a unit local half vector
 /// (z = normal): `P₂₂/cos⁴θ` = anisotropic Beckmann ([`beckmann::d_aniso`]).
@@ -31,12 +32,31 @@ pub fn d_iso(cos_h: f32, alpha: f32) -> f32 {
 /// hx/hz and hy/hz are the two slopes). 0 for `hz ≤ 0`.
 #[inline]
 pub fn slope_pdf(h: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
-    if !(h.z > 0.0) {
-        return 0.0;
-    }
-    let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
-    let e = ((h.x / ax).powi(2) + (h.y / ay).powi(2)) / (h.z * h.z);
-    (-e).exp() * std::f32::consts::FRAC_1_PI / (ax * ay)
+    slope_pdf_lanes(V3::from(h), alpha_x, alpha_y)
+}
+
+/// [`slope_pdf`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn slope_pdf_lanes<F: Lane>(h: V3<F>, alpha_x: f32, alpha_y: f32) -> F {
+    let e = slopes2(h, alpha_x, alpha_y) / (h.z * h.z);
+    gaussian_of(h, e, alpha_x, alpha_y)
+}
+
+/// `hx²/αx² + hy²/αy²` (floors applied).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn slopes2<F: Lane>(h: V3<F>, alpha_x: f32, alpha_y: f32) -> F {
+    let (x, y) = (h.x / F::splat(alpha_x.max(ALPHA_MIN)), h.y / F::splat(alpha_y.max(ALPHA_MIN)));
+    x * x + y * y
+}
+
+/// `exp(−e)/(π αx αy)`, 0 for `hz ≤ 0`.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn gaussian_of<F: Lane>(h: V3<F>, e: F, alpha_x: f32, alpha_y: f32) -> F {
+    let norm = std::f32::consts::FRAC_1_PI / (alpha_x.max(ALPHA_MIN) * alpha_y.max(ALPHA_MIN));
+    F::select(h.z.gt(F::splat(0.0)), (-e).exp() * F::splat(norm), F::splat(0.0))
 }
 
 /// Ward 1992's "computationally convenient" form of the same Gaussian (his eq. 5b):
@@ -46,10 +66,13 @@ pub fn slope_pdf(h: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
 /// as `normalization = "ward"`. 0 for `hz ≤ 0`.
 #[inline]
 pub fn slope_pdf_ward1992(h: Vec3A, alpha_x: f32, alpha_y: f32) -> f32 {
-    if !(h.z > 0.0) {
-        return 0.0;
-    }
-    let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
-    let e = 2.0 * ((h.x / ax).powi(2) + (h.y / ay).powi(2)) / (1.0 + h.z);
-    (-e).exp() * std::f32::consts::FRAC_1_PI / (ax * ay)
+    slope_pdf_ward1992_lanes(V3::from(h), alpha_x, alpha_y)
+}
+
+/// [`slope_pdf_ward1992`] on lanes (the one place its formula is written).
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn slope_pdf_ward1992_lanes<F: Lane>(h: V3<F>, alpha_x: f32, alpha_y: f32) -> F {
+    let e = F::splat(2.0) * slopes2(h, alpha_x, alpha_y) / (F::splat(1.0) + h.z);
+    gaussian_of(h, e, alpha_x, alpha_y)
 }

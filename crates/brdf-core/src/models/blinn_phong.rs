@@ -1,27 +1,28 @@
-//! Normalised Blinn-Phong BRDF `f_r = kd/π + ks·N(m)·(n·h)^m` (seed 002 "Blinn-Phong Model"; seed 001;
-//! Akenine-Möller et al., Real-Time Rendering; Giesen 2009), and the Blinn ↔ Phong exponent relation.
+//! Normalised Blinn-Phong BRDF `f_r = kd/π + ks·N(m)·(n·h)^m` (Blinn 1977; T. Akenine-Möller, E. Haines,
+//! N. Hoffman, *Real-Time Rendering*, 3rd ed., 2008, §7.6; F. Giesen, "The Blinn-Phong Normalization
+//! Zoo", 2009), and the Blinn ↔ Phong exponent relation.
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
 use glam::Vec3;
 
+use crate::BrdfError;
 use crate::models::classic::MAX_SHININESS;
-use crate::models::{Bxdf, ModelKind, physical_shade_lanes};
+use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
 use crate::simd::{Lane, LaneGeometry, V3};
-use crate::{BrdfError, Geometry};
 
 /// Which normalisation factor `N(m)` multiplies `(n·h)^m`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BlinnPhongNormalization {
-    /// `(m + 8)/(8π)` — seed 002's formula, from Real-Time Rendering ([`normalization_rtr`]).
+    /// `(m + 8)/(8π)` — Real-Time Rendering's factor ([`normalization_rtr`]).
     Rtr,
     /// `(m + 2)(m + 4)/(8π (2^(−m/2) + m))` — Giesen's exact factor ([`normalization_exact`]).
     Exact,
 }
 
-/// The Real-Time-Rendering normalisation of Blinn-Phong, `N(m) = (m + 8)/(8π)` [1/sr] (seed 002;
-/// Akenine-Möller, Haines, Hoffman, RTR 3rd ed. §7.6).
+/// The Real-Time-Rendering normalisation of Blinn-Phong, `N(m) = (m + 8)/(8π)` [1/sr]
+/// (Akenine-Möller, Haines, Hoffman, *Real-Time Rendering*, 3rd ed., §7.6).
 ///
 /// It approximates [`normalization_exact`] and is **slightly too large** at low and moderate
 /// exponents: the directional albedo at normal incidence of `N(m)(n·h)^m` is
@@ -44,11 +45,11 @@ pub fn normalization_exact(m: f32) -> f32 {
     (m + 2.0) * (m + 4.0) / (8.0 * PI * ((-0.5 * m).exp2() + m))
 }
 
-/// Blinn exponent equivalent to a Phong exponent: `m_blinn = 4 · γ_phong` (seed 001, "Blinn's
-/// contribution": `(R·V)^h ≈ (H·N)^(4h)`; seed 004 eq. 12.25 "adjust n").
+/// Blinn exponent equivalent to a Phong exponent: `m_blinn = 4 · γ_phong`, the usual rule
+/// `(r·v)^γ ≈ (n·h)^(4γ)`.
 ///
 /// Why 4: when `l`, `v` and `n` are coplanar, the angle between `r` and `v` is exactly twice the angle
-/// between `n` and `h` (seed 004: `rv = 2 nh`). For a small half-angle `x`,
+/// between `n` and `h`. For a small half-angle `x`,
 /// `cos^γ(2x) = exp(γ ln cos 2x) ≈ exp(−2γx²)` and `cos^m(x) ≈ exp(−m x²/2)`; the two Gaussians agree
 /// when `m = 4γ`. The relation is exact in the limit of small angles in the plane of incidence; out of
 /// that plane the Blinn highlight is elongated (the angle between `n` and `h` grows more slowly than
@@ -60,7 +61,7 @@ pub fn blinn_exponent_from_phong(phong_exponent: f32) -> f32 {
 }
 
 /// Phong exponent equivalent to a Blinn exponent: `γ_phong = m_blinn / 4`, the inverse of
-/// [`blinn_exponent_from_phong`] (seed 001; seed 004 eq. 12.25).
+/// [`blinn_exponent_from_phong`].
 #[inline]
 pub fn phong_exponent_from_blinn(blinn_exponent: f32) -> f32 {
     0.25 * blinn_exponent
@@ -72,12 +73,14 @@ pub fn phong_exponent_from_blinn(blinn_exponent: f32) -> f32 {
 /// f_r(l, v) = kd/π + ks · N(m) · (n·h)^m,    h = normalize(l + v)
 /// ```
 ///
-/// with `N(m)` = [`normalization_rtr`] (`normalization = "rtr"`, default, seed 002's
-/// `(m+8)/(8π)`) or [`normalization_exact`] (`"exact"`, Giesen). Reciprocal (`h` is symmetric in `l` and
-/// `v`). The "rtr" factor makes the lobe's albedo slightly exceed `ks` at low exponents (up to ×1.075
-/// near m = 10), so only "exact" strictly conserves energy for `kd + ks ≤ 1`.
+/// with `N(m)` = [`normalization_exact`] (`normalization = "exact"`, default, Giesen's exact factor) or
+/// [`normalization_rtr`] (`"rtr"`, Real-Time Rendering's `(m+8)/(8π)`). Reciprocal (`h` is symmetric in
+/// `l` and `v`). The "rtr" factor makes the lobe's albedo exceed `ks` at low and moderate exponents (up to
+/// ×1.075 near m = 10; ×1.046 at the default m = 32, where the default `kd + ks = 1` then reflected 1.023
+/// of the light at normal incidence), so only "exact" conserves energy for `kd + ks ≤ 1`: it is the
+/// default, "rtr" is there to match engines that use it.
 ///
-/// Unlike the microfacet Blinn-Phong distribution `D = (m+2)/(2π)(n·h)^m` (seed 001), which is
+/// Unlike the microfacet Blinn-Phong distribution `D = (m+2)/(2π)(n·h)^m`, which is
 /// normalised over microfacet normals, `N(m)` here normalises the whole BRDF lobe.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BlinnPhong {
@@ -134,8 +137,8 @@ impl BlinnPhong {
 impl Bxdf for BlinnPhong {
     const SPEC: ModelSpec = ModelSpec {
         name: "blinn_phong",
-        summary: "normalised Blinn-Phong, f_r = kd/pi + ks*N(m)*(n.h)^m, N = (m+8)/(8pi) ('rtr') or Giesen's exact factor",
-        source: "seeds 001, 002; Akenine-Moller et al., Real-Time Rendering; Giesen 2009",
+        summary: "normalised Blinn-Phong, f_r = kd/pi + ks*N(m)*(n.h)^m, N = Giesen's exact factor ('exact') or (m+8)/(8pi) ('rtr')",
+        source: "J. F. Blinn, SIGGRAPH (1977); normalisation: T. Akenine-Moller, E. Haines, N. Hoffman, Real-Time Rendering, 3rd ed. (2008), sec. 7.6; F. Giesen, The Blinn-Phong Normalization Zoo (2009)",
         physical: true,
         anisotropic: false,
         params: &[
@@ -144,41 +147,41 @@ impl Bxdf for BlinnPhong {
             ParamSpec::scalar("shininess", 32.0, 0.0, MAX_SHININESS, "1", "Blinn exponent m"),
             ParamSpec::choice(
                 "normalization",
-                &["rtr", "exact"],
-                "rtr",
-                "rtr: (m+8)/(8pi) (seed 002, slightly > energy-conserving); exact: Giesen's (m+2)(m+4)/(8pi(2^(-m/2)+m))",
+                &["exact", "rtr"],
+                "exact",
+                "exact: Giesen's (m+2)(m+4)/(8pi(2^(-m/2)+m)), albedo exactly ks head-on; rtr: (m+8)/(8pi) (Real-Time Rendering, up to 7.5 % above energy conservation)",
             ),
         ],
     };
     const KIND: ModelKind = ModelKind::Physical;
 
+    /// Cosine-weighted for `kd`, half vectors `∝ (n·h)^m` for `ks` ([`crate::sampling::cosine_power`]),
+    /// chosen in proportion to `kd : ks`.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique, mean};
+        Ok(Sampler::new()
+            .with(Technique::Cosine, mean(self.kd))
+            .with(Technique::HalfVectorPower { exponent: self.shininess }, mean(self.ks)))
+    }
+
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         let normalization = match p.choice("normalization") {
-            "exact" => BlinnPhongNormalization::Exact,
-            _ => BlinnPhongNormalization::Rtr,
+            "rtr" => BlinnPhongNormalization::Rtr,
+            _ => BlinnPhongNormalization::Exact,
         };
         Ok(Self::new(p.color("kd"), p.color("ks"), p.scalar("shininess"), normalization))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
-        self.f_lanes(&LaneGeometry::from(g), true).into()
-    }
-
-    #[inline(always)]
-    fn f_lanes<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
         // Both l and v are above the surface here, so l + v ≠ 0 and n·h > 0; h as in
         // `vector::halfway` (no half vector where |l + v|² ≤ 1e−20: diffuse only).
         let s = g.l + g.v;
         let len2 = s.dot(s);
         let nh = g.n.dot(s / len2.sqrt()).clamp(0.0, 1.0);
-        let m = self.shininess;
-        let lobe = V3::splat(self.diffuse) + V3::splat(self.specular).scale(nh.map(|c| c.powf(m)));
+        let lobe =
+            V3::splat(self.diffuse) + V3::splat(self.specular).scale(nh.powf(F::splat(self.shininess)));
         V3::select(len2.gt(F::splat(1e-20)), lobe, V3::splat(self.diffuse))
-    }
-
-    #[inline(always)]
-    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
-        physical_shade_lanes(self, g, active)
     }
 }

@@ -1,10 +1,12 @@
 //! Cook–Torrance microfacet BRDF `f = kd/π + ks · D(h) G(l, v) F(v·h) / (4 (n·l)(n·v))`
-//! (Cook & Torrance 1982; Walter et al. 2007 eq. 20; seeds 001, 002, 004; notes (b2)).
+//! (R. L. Cook, K. E. Torrance, "A Reflectance Model for Computer Graphics", ACM ToG 1(1), 1982;
+//! B. Walter, S. R. Marschner, H. Li, K. E. Torrance, "Microfacet Models for Refraction through Rough
+//! Surfaces", EGSR 2007, eq. 20).
 //!
 //! Composes one [`Mixture`] of distributions, one [`Masking`] and one [`Fresnel`]; each term's
-//! formula lives in its own module. The denominator is 4 with a normalised D: seed 004 prints
-//! `DGF/(π (n·l)(n·v))` and seed 001 `F/4 · DG/((n·l)(n·v))`; the π form belongs with Cook and
-//! Torrance's un-normalised D and makes an energy-conserving D 4/π too bright (notes (b2)). With
+//! formula lives in its own module. The denominator is 4 with a normalised D (Walter et al. 2007; some
+//! textbooks print `DGF/(π (n·l)(n·v))`): the π form belongs with Cook and Torrance's un-normalised D
+//! and makes an energy-conserving D 4/π too bright. With
 //! F = 1 and V-groove G the Beckmann directional albedo is 1.000 at m = 0.1 (normal view) and drops
 //! with m (lost multiple scattering); the tests recompute those numbers.
 //!
@@ -23,13 +25,13 @@
 
 use glam::Vec3;
 
+use crate::BrdfError;
 use crate::fresnel::{self, Fresnel};
 use crate::masking::{MASKING_NAMES, Masking};
 use crate::microfacet::{Distribution, HalfVector, Mixture};
-use crate::models::{Bxdf, ModelKind, physical_shade_lanes};
-use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::models::{Bxdf, ModelKind};
+use crate::params::{DerivedDefault, DerivedValue, ModelSpec, ParamKind, ParamSpec, Params, Value};
 use crate::simd::{Lane, LaneGeometry, V3};
-use crate::{BrdfError, Geometry};
 
 /// Distributions the Cook–Torrance model accepts (isotropic ones).
 pub const CT_DISTRIBUTIONS: &[&str] = &["ggx", "beckmann", "gaussian", "blinn_phong"];
@@ -76,7 +78,8 @@ impl CookTorrance {
     }
 
     /// [`CookTorrance::specular`] on lanes.
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn specular_lanes<F: Lane>(&self, nl: F, nv: F, lv: F) -> V3<F> {
         self.specular_half_lanes(nl, nv, &HalfVector::from_cosines(nl, nv, lv))
     }
@@ -91,7 +94,8 @@ impl CookTorrance {
 
     /// [`CookTorrance::specular_half`] on lanes (the one place its formula is written; see
     /// [`crate::simd`]).
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn specular_half_lanes<F: Lane>(&self, nl: F, nv: F, h: &HalfVector<F>) -> V3<F> {
         let zero = F::splat(0.0);
         let len = h.len2.sqrt(); // |l + v|
@@ -106,7 +110,8 @@ impl CookTorrance {
     }
 
     /// The whole BRDF on lanes; [`Bxdf::f`] is this with `F = f32`.
-    #[inline(always)]
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn f_generic<F: Lane>(&self, g: &LaneGeometry<F>) -> V3<F> {
         let h = HalfVector::from_directions(g.l, g.v, g.n);
         V3::splat(self.kd * std::f32::consts::FRAC_1_PI)
@@ -118,11 +123,25 @@ impl Bxdf for CookTorrance {
     const SPEC: ModelSpec = ModelSpec {
         name: "cook_torrance",
         summary: "Cook-Torrance microfacet BRDF, f = kd/pi + ks*D*G*F/(4 (n.l)(n.v)) with a choice of D, G and F",
-        source: "seeds 001, 002, 004; Cook & Torrance 1982; Walter et al. 2007; Heitz 2014",
+        source: "R. L. Cook, K. E. Torrance, A Reflectance Model for Computer Graphics, ACM ToG 1(1) (1982); B. Walter et al., Microfacet Models for Refraction through Rough Surfaces, EGSR (2007), eq. 20; E. Heitz, Understanding the Masking-Shadowing Function, JCGT 3(2) (2014)",
         physical: true,
         anisotropic: false,
         params: &[
-            ParamSpec::color("kd", [0.0; 3], 0.0, 1.0, "reflectance", "diffuse reflectance (kd/pi)"),
+            // A red plastic by default (f0 = 0.04); a metal preset has no diffuse term unless kd is given.
+            ParamSpec {
+                name: "kd",
+                kind: ParamKind::Color,
+                default: Value::Color([0.5, 0.12, 0.08]),
+                min: 0.0,
+                max: 1.0,
+                unit: "reflectance",
+                doc: "diffuse reflectance (kd/pi); default a red plastic, 0 with a metal preset unless given",
+                derived_default: Some(DerivedDefault {
+                    when: "metal",
+                    unless: "none",
+                    value: DerivedValue::Color([0.0; 3]),
+                }),
+            },
             ParamSpec::color("ks", [1.0; 3], 0.0, 1.0, "1", "specular scale"),
             ParamSpec::choice("distribution", CT_DISTRIBUTIONS, "ggx", "microfacet distribution D"),
             ParamSpec::scalar(
@@ -162,7 +181,7 @@ impl Bxdf for CookTorrance {
                 "metal",
                 CT_METALS,
                 "none",
-                "metal F0 preset (seeds 001/004 table); overrides f0, ior, eta and k",
+                "metal F0 preset (N. Hoffman, Physics and Math of Shading, SIGGRAPH 2010 course); overrides f0, ior, eta and k",
             ),
             ParamSpec::scalar("roughness2", 0.3, 0.0, 2.0, "alpha", "roughness of the second lobe"),
             ParamSpec::scalar(
@@ -176,6 +195,18 @@ impl Bxdf for CookTorrance {
         ],
     };
     const KIND: ModelKind = ModelKind::Physical;
+
+    /// Cosine-weighted for `kd`; for each lobe of the distribution its visible normals (GGX, Beckmann,
+    /// Gaussian via Beckmann) or `D cos θ_h` (Blinn–Phong), [`crate::sampling::Technique::for_distribution`],
+    /// weighted by the lobe's weight times `mean(ks ∘ F(n·v))`.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique, mean};
+        let mut s = Sampler::new().with(Technique::Cosine, mean(self.kd));
+        for (w, d) in self.distribution.lobes() {
+            s = s.with_fresnel(Technique::for_distribution(d), *w, self.ks, self.fresnel);
+        }
+        Ok(s)
+    }
 
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         let name = p.choice("distribution");
@@ -202,7 +233,7 @@ impl Bxdf for CookTorrance {
             "schlick" => Fresnel::Schlick { f0 },
             "dielectric" => Fresnel::Dielectric {
                 eta: match metal {
-                    // Cook & Torrance 1982 / seed 004's shader: an index per channel from F0.
+                    // Cook & Torrance 1982: an index per channel from F0.
                     Some(f0) => {
                         let f0 = f0.min(Vec3::splat(0.9999));
                         Vec3::new(
@@ -224,18 +255,135 @@ impl Bxdf for CookTorrance {
         Ok(Self::new(p.color("kd"), p.color("ks"), distribution, masking, fresnel))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
-        self.f_generic(&LaneGeometry::from(g)).into()
-    }
-
-    #[inline(always)]
-    fn f_lanes<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
         self.f_generic(g)
     }
+}
 
-    #[inline(always)]
-    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
-        physical_shade_lanes(self, g, active)
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Geometry;
+    use crate::simd::{F32x8, LaneKernel, run_widest};
+
+    /// Every D (and a two-lobe mixture) × every G × every F, including an exact conductor with
+    /// the gold index Mitsuba uses at RGB.
+    fn every_configuration() -> Vec<CookTorrance> {
+        let ds: Vec<Mixture> = vec![
+            Distribution::ggx(0.3).into(),
+            Distribution::ggx(0.05).into(),
+            Distribution::beckmann(0.3).into(),
+            Distribution::gaussian(0.3).into(),
+            Distribution::blinn_phong(crate::microfacet::blinn_phong::exponent_from_alpha(0.3)).into(),
+            Distribution::from_roughness("ashikhmin_shirley", 0.2).unwrap().into(),
+            Mixture::new(&[(0.7, Distribution::beckmann(0.1)), (0.3, Distribution::beckmann(0.5))]).unwrap(),
+        ];
+        let gs = [Masking::Smith, Masking::SmithSeparable, Masking::VGroove, Masking::Kelemen, Masking::None];
+        let fs = [
+            Fresnel::Schlick { f0: Vec3::new(0.04, 0.5, 0.9) },
+            Fresnel::Dielectric { eta: Vec3::splat(1.5) },
+            Fresnel::Dielectric { eta: Vec3::new(1.3, 1.5, 2.4) },
+            Fresnel::Conductor {
+                eta: Vec3::new(0.143_036, 0.375_307, 1.442_045),
+                k: Vec3::new(3.982_997, 2.385_556, 1.603_359),
+            },
+            Fresnel::color_shift(Vec3::new(0.95, 0.64, 0.54)),
+            Fresnel::None,
+        ];
+        let mut out = Vec::new();
+        for d in &ds {
+            for g in gs {
+                for f in fs {
+                    out.push(CookTorrance::new(Vec3::new(0.2, 0.1, 0.05), Vec3::ONE, *d, g, f));
+                }
+            }
+        }
+        out
+    }
+
+    /// Random directions with degenerate rows (zero, below the horizon, l = −v, grazing) mixed in.
+    fn rows(n: usize) -> (Vec<Vec3>, Vec<Vec3>, Vec<Vec3>) {
+        let mut seed = 0x9e37_79b9_u32;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        let (mut l, mut v, mut nrm) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..n {
+            let a = Vec3::new(rnd(), rnd(), rnd().abs() + 0.02);
+            let b = match i % 29 {
+                3 => -a,
+                7 => Vec3::new(a.x, a.y, 1e-4),
+                11 => a,
+                _ => Vec3::new(rnd(), rnd(), rnd().abs() * 1.2 + 0.01),
+            };
+            l.push(if i % 31 == 5 { Vec3::ZERO } else { a });
+            v.push(if i % 37 == 9 { Vec3::new(0.0, 0.0, -1.0) } else { b });
+            nrm.push(Vec3::new(0.1 * rnd(), 0.1 * rnd(), 1.0));
+        }
+        (l, v, nrm)
+    }
+
+    struct Compare<'a>(&'a [CookTorrance], &'a (Vec<Vec3>, Vec<Vec3>, Vec<Vec3>));
+
+    impl LaneKernel for Compare<'_> {
+        #[cfg_attr(debug_assertions, inline)]
+        #[cfg_attr(not(debug_assertions), inline(always))]
+        fn run<F: Lane>(self) {
+            let (l, v, n) = self.1;
+            for ct in self.0 {
+                for start in (0..l.len() - F::LANES).step_by(F::LANES) {
+                    let r = start..start + F::LANES;
+                    let (g, ok) = LaneGeometry::new(
+                        F::load_rows(&l[r.clone()]),
+                        F::load_rows(&v[r.clone()]),
+                        F::load_rows(&n[r]),
+                        None,
+                    );
+                    let f = ct.f_lanes(&g, ok);
+                    for i in 0..F::LANES {
+                        let Some(s) = Geometry::new(l[start + i], v[start + i], n[start + i], None) else {
+                            continue;
+                        };
+                        let (got, want) = (f.lane(i), ct.f(&s));
+                        assert_eq!(
+                            got.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits),
+                            "{ct:?} row {}: {got} vs {want} ({} lanes)",
+                            start + i,
+                            F::LANES
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// batch == scalar for every D, G and F: the eight-lane forms (AVX2 where available, and the
+    /// portable one) give the bits of `Bxdf::f` on every sample.
+    #[test]
+    fn every_term_gives_the_scalar_bits_in_every_lane_type() {
+        let cts = every_configuration();
+        let data = rows(203);
+        Compare(&cts, &data).run::<F32x8>();
+        run_widest(Compare(&cts, &data));
+    }
+
+    /// No term yields NaN or a negative value on valid or degenerate geometry.
+    #[test]
+    fn every_configuration_is_finite_and_non_negative() {
+        let (l, v, n) = rows(203);
+        for ct in every_configuration() {
+            for i in 0..l.len() {
+                if let Some(g) = Geometry::new(l[i], v[i], n[i], None) {
+                    let f = ct.f(&g);
+                    assert!(f.is_finite() && f.min_element() >= 0.0, "{ct:?} row {i}: {f}");
+                }
+            }
+        }
     }
 }

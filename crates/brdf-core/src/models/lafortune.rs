@@ -1,8 +1,9 @@
 //! Lafortune's generalised cosine lobes (E. Lafortune, S.-C. Foo, K. Torrance, D. Greenberg,
-//! "Non-Linear Approximation of Reflectance Functions", SIGGRAPH 1997; seed 001 "Generalized cosine
-//! lobe model", "Compound model"), and Schlick's rational power (Schlick 1994; seed 001).
+//! "Non-Linear Approximation of Reflectance Functions", SIGGRAPH 1997), and Schlick's
+//! rational power (C. Schlick, "An Inexpensive BRDF Model for Physically-based Rendering", Computer
+//! Graphics Forum 13(3), 1994).
 //!
-//! In the local frame (x = tangent, y = bitangent, z = normal; seed 001's b, t, n):
+//! In the local frame (x = tangent, y = bitangent, z = normal), with `ρd` = `kd`, `ρs` = `ks`:
 //!
 //! ```text
 //! f = ρd/π + ρs · Σᵢ max(0, Cx,i lx vx + Cy,i ly vy + Cz,i lz vz)^{nᵢ}
@@ -12,24 +13,28 @@
 //! tangent-plane part, needs no frame, and the model builds none when every lobe is isotropic);
 //! Cx ≠ Cy is anisotropic; Cz < −Cx gives off-specular peaks; all C > 0 retro-reflection. The lobe
 //! magnitude lives in the C's (`|C|ⁿ`): a Phong lobe of unit albedo at normal incidence has
-//! `|C| = ((n+2)/(2π))^{1/n}` (seed 001 "Cosine lobe options"). Energy conservation is the caller's
+//! `|C| = ((n+2)/(2π))^{1/n}`. Energy conservation is the caller's
 //! choice of C, n, ρ (as in Lafortune 1997).
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
+use crate::BrdfError;
+use crate::frame::LaneFrame;
 use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
-use crate::{BrdfError, Geometry};
+use crate::simd::{Lane, LaneGeometry, V3};
 
 /// Schlick's rational approximation of a power, `Sⁿ ≈ S/(n − nS + S)` for S ∈ [0, 1], n ≥ 0
-/// (Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"; seed 001): exact at
+/// (Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering"): exact at
 /// S = 0 and S = 1, one division instead of `powf`, a slightly wider highlight than the true power.
 /// S is clamped to [0, 1] (outside it the denominator can vanish).
-#[inline]
-pub fn schlick_power(s: f32, n: f32) -> f32 {
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn schlick_power<F: Lane>(s: F, n: f32) -> F {
     let s = s.clamp(0.0, 1.0);
+    let n = F::splat(n);
     let den = n - n * s + s;
-    if den > 0.0 { s / den } else { 1.0 }
+    F::select(den.gt(F::splat(0.0)), s / den, F::splat(1.0))
 }
 
 /// One generalised cosine lobe `max(0, Cx lx vx + Cy ly vy + Cz lz vz)^n`.
@@ -58,9 +63,9 @@ pub enum LobePower {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lafortune {
     /// Diffuse reflectance ρd.
-    pub rho_d: Vec3,
+    pub kd: Vec3,
     /// Specular scale ρs.
-    pub rho_s: Vec3,
+    pub ks: Vec3,
     /// The lobes.
     pub lobes: Vec<LafortuneLobe>,
     /// Power evaluation.
@@ -70,12 +75,7 @@ pub struct Lafortune {
 
 impl Lafortune {
     /// Model from its lobes; errors on no lobes or a negative/non-finite exponent or coefficient.
-    pub fn new(
-        rho_d: Vec3,
-        rho_s: Vec3,
-        lobes: Vec<LafortuneLobe>,
-        power: LobePower,
-    ) -> Result<Self, BrdfError> {
+    pub fn new(kd: Vec3, ks: Vec3, lobes: Vec<LafortuneLobe>, power: LobePower) -> Result<Self, BrdfError> {
         if lobes.is_empty() {
             return Err(BrdfError::param("lobes", "needs at least one lobe [cx, cy, cz, n]"));
         }
@@ -88,42 +88,31 @@ impl Lafortune {
             }
         }
         let isotropic = lobes.iter().all(|l| l.cx == l.cy);
-        Ok(Self { rho_d, rho_s, lobes, power, isotropic })
+        Ok(Self { kd, ks, lobes, power, isotropic })
     }
 
-    #[inline]
-    fn lobe_sum(&self, l: Vec3A, v: Vec3A) -> f32 {
-        self.lobes
-            .iter()
-            .map(|c| {
-                let s = c.cx * l.x * v.x + c.cy * l.y * v.y + c.cz * l.z * v.z;
-                self.power_of(s, c.n)
-            })
-            .sum()
-    }
-
-    #[inline]
-    fn power_of(&self, s: f32, n: f32) -> f32 {
-        if !(s > 0.0) {
-            return 0.0;
-        }
-        match self.power {
-            LobePower::Exact => s.powf(n),
+    /// `max(0, s)ⁿ` with the model's power (0 where `s ≤ 0` or NaN).
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn power_of<F: Lane>(&self, s: F, n: f32) -> F {
+        let p = match self.power {
+            LobePower::Exact => s.max(F::splat(0.0)).powf(F::splat(n)),
             LobePower::Schlick => schlick_power(s, n),
-        }
+        };
+        F::select(s.gt(F::splat(0.0)), p, F::splat(0.0))
     }
 }
 
 impl Bxdf for Lafortune {
     const SPEC: ModelSpec = ModelSpec {
         name: "lafortune",
-        summary: "Lafortune 1997 cosine lobes, f = rho_d/pi + rho_s sum max(0, Cx lx vx + Cy ly vy + Cz lz vz)^n (local frame)",
-        source: "seed 001; Lafortune, Foo, Torrance, Greenberg 1997; Schlick 1994 (rational power)",
+        summary: "Lafortune 1997 cosine lobes, f = kd/pi + ks sum max(0, Cx lx vx + Cy ly vy + Cz lz vz)^n (local frame)",
+        source: "E. Lafortune, S.-C. Foo, K. Torrance, D. Greenberg, Non-Linear Approximation of Reflectance Functions, SIGGRAPH (1997); rational power: C. Schlick, Computer Graphics Forum 13(3) (1994)",
         physical: true,
         anisotropic: true,
         params: &[
-            ParamSpec::color("rho_d", [0.3; 3], 0.0, 1.0, "reflectance", "diffuse reflectance"),
-            ParamSpec::color("rho_s", [1.0; 3], 0.0, 1.0e3, "1", "specular scale"),
+            ParamSpec::color("kd", [0.3; 3], 0.0, 1.0, "reflectance", "diffuse reflectance rho_d"),
+            ParamSpec::color("ks", [1.0; 3], 0.0, 1.0e3, "1", "specular scale rho_s (multiplies every lobe)"),
             ParamSpec::array(
                 "lobes",
                 4,
@@ -143,6 +132,19 @@ impl Bxdf for Lafortune {
     };
     const KIND: ModelKind = ModelKind::Physical;
 
+    /// Cosine-weighted for `ρd`; each lobe `(l·(C∘v))ⁿ` by a `cosⁿ` lobe about `C∘v`
+    /// ([`crate::sampling::cosine_power`]), weighted by `mean(ρs)·|C∘v|ⁿ·2π/(n+2)`, the lobe's albedo
+    /// when the horizon does not cut it. At most 15 lobes.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique, mean};
+        let mut s = Sampler::new().with(Technique::Cosine, mean(self.kd));
+        for c in &self.lobes {
+            let t = Technique::CosineLobe { c: [c.cx, c.cy, c.cz], exponent: c.n };
+            s = s.with(t, mean(self.ks) * 2.0 * std::f32::consts::PI / (c.n + 2.0));
+        }
+        Ok(s)
+    }
+
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         let lobes = p
             .array("lobes")
@@ -153,12 +155,14 @@ impl Bxdf for Lafortune {
             "schlick" => LobePower::Schlick,
             _ => LobePower::Exact,
         };
-        Self::new(p.color("rho_d"), p.color("rho_s"), lobes, power)
+        Self::new(p.color("kd"), p.color("ks"), lobes, power)
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
-        let sum = if self.isotropic {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        let mut sum = F::splat(0.0);
+        if self.isotropic {
             // No frame: with w⊥ = w − (n·w)n the tangent-plane part, lx vx + ly vy = l⊥·v⊥ and
             // lz vz = l·v − l⊥·v⊥, so the base is Cz (l·v) + (Cx − Cz)(l⊥·v⊥). Not the cosine form
             // `Cx (l·v − (n·l)(n·v)) + Cz (n·l)(n·v)`: near the normal both products are ≈ 1 and their
@@ -168,12 +172,18 @@ impl Bxdf for Lafortune {
             // l⊥·v⊥ is small wherever a lobe peaks near the normal: a Phong lobe of n = 500 is now
             // within 1.9e-4 of the float64 oracle (was 4.1e-4). tests/test_lafortune_precision.py.
             let lv = g.l.dot(g.v);
-            let tp = (g.l - g.n * g.nl).dot(g.v - g.n * g.nv);
-            self.lobes.iter().map(|c| self.power_of(c.cz * lv + (c.cx - c.cz) * tp, c.n)).sum()
+            let tp = (g.l - g.n.scale(g.nl)).dot(g.v - g.n.scale(g.nv));
+            for c in &self.lobes {
+                sum = sum + self.power_of(F::splat(c.cz) * lv + F::splat(c.cx - c.cz) * tp, c.n);
+            }
         } else {
-            let fr = g.frame();
-            self.lobe_sum(fr.to_local(g.l), fr.to_local(g.v))
-        };
-        self.rho_d * std::f32::consts::FRAC_1_PI + self.rho_s * sum
+            let frame = LaneFrame::of(g);
+            let (l, v) = (frame.to_local(g.l), frame.to_local(g.v));
+            for c in &self.lobes {
+                let s = F::splat(c.cx) * l.x * v.x + F::splat(c.cy) * l.y * v.y + F::splat(c.cz) * l.z * v.z;
+                sum = sum + self.power_of(s, c.n);
+            }
+        }
+        V3::splat(self.kd * std::f32::consts::FRAC_1_PI) + V3::splat(self.ks).scale(sum)
     }
 }

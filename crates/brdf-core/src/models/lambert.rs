@@ -1,60 +1,58 @@
-//! Lambertian diffuse reflection, physical form `f_r = ρ/π` (seeds 002, 003, 004; Lambert 1760).
+//! Lambertian diffuse reflection, physical form `f_r = kd/π` (J. H. Lambert, *Photometria*, 1760; the
+//! BRDF form as in Pharr, Jakob, Humphreys, *Physically Based Rendering*, 4th ed., 2023, §9.2).
 
 use glam::Vec3;
 
-use crate::models::{Bxdf, ModelKind, physical_shade_lanes};
+use crate::BrdfError;
+use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
 use crate::simd::{Lane, LaneGeometry, V3};
-use crate::{BrdfError, Geometry};
 
-/// Ideal diffuse reflector: `f_r = ρ/π` [1/sr]; directional albedo is exactly `ρ`.
+/// Ideal diffuse reflector: `f_r = kd/π` [1/sr]; its directional albedo is exactly `kd`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lambert {
-    /// Diffuse reflectance ρ ∈ [0, 1] per channel.
-    pub albedo: Vec3,
+    /// Diffuse reflectance `kd` ∈ [0, 1] per channel (the albedo).
+    pub kd: Vec3,
 }
 
 impl Lambert {
-    /// Lambertian reflector of reflectance `albedo`.
-    pub fn new(albedo: Vec3) -> Self {
-        Self { albedo }
+    /// Lambertian reflector of diffuse reflectance `kd`.
+    pub fn new(kd: Vec3) -> Self {
+        Self { kd }
     }
 }
 
 impl Bxdf for Lambert {
     const SPEC: ModelSpec = ModelSpec {
         name: "lambert",
-        summary: "Lambertian diffuse, f_r = albedo/pi",
-        source: "seeds 002, 003, 004; J. H. Lambert, Photometria (1760)",
+        summary: "Lambertian diffuse, f_r = kd/pi",
+        source: "J. H. Lambert, Photometria (1760); BRDF form: Pharr, Jakob, Humphreys, Physically Based Rendering, 4th ed. (2023), sec. 9.2",
         physical: true,
         anisotropic: false,
         params: &[ParamSpec::color(
-            "albedo",
+            "kd",
             [0.8, 0.8, 0.8],
             0.0,
             1.0,
             "reflectance",
-            "diffuse reflectance rho",
+            "diffuse reflectance (the albedo)",
         )],
     };
     const KIND: ModelKind = ModelKind::Physical;
 
+    /// Cosine-weighted ([`crate::sampling::cosine`]): `f·cos/p = albedo` exactly.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique};
+        Ok(Sampler::new().with(Technique::Cosine, 1.0))
+    }
+
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
-        Ok(Self::new(p.color("albedo")))
+        Ok(Self::new(p.color("kd")))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
-        self.f_lanes(&LaneGeometry::from(g), true).into()
-    }
-
-    #[inline(always)]
-    fn f_lanes<F: Lane>(&self, _g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
-        V3::splat(self.albedo * std::f32::consts::FRAC_1_PI)
-    }
-
-    #[inline(always)]
-    fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
-        physical_shade_lanes(self, g, active)
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, _g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        V3::splat(self.kd * std::f32::consts::FRAC_1_PI)
     }
 }

@@ -1,13 +1,24 @@
 //! One type per reflectance model, all with the same small method set ([`Bxdf`]), and [`Model`], the
 //! enum that the registry, the batch evaluator and the rasterizer dispatch on.
 //!
+//! Each model writes its formula once, [`Bxdf::formula`], generic over [`Lane`]: the scalar `f` and
+//! `shade` are that code with `F = f32`, the batch evaluator and the rasterizer run it eight lanes at a
+//! time, and both give the same bits (tests in `lane_tests.rs`).
+//!
 //! Two kinds of model live here (SPEC "Conventions"):
-//! - **physical** BRDFs implement [`Bxdf::f`], the BRDF value `f_r` in 1/sr. They are only called with
-//!   both `l` and `v` strictly above the surface; [`Model::eval`] returns 0 otherwise, and
-//!   [`Model::shade`] is `f_r · max(n·l, 0)`.
-//! - **classic** (course-style) models of seeds 000 and 004 implement [`Bxdf::shade`] as the course
-//!   formula exactly as written (it clamps what it clamps, for any `l` and `v`), and `f` is that value
-//!   divided by `n·l` (0 where `n·l ≤ 0`), see [`classic_f`].
+//! - **physical** BRDFs: the formula is the BRDF value `f_r` in 1/sr. It is only called with both `l`
+//!   and `v` strictly above the surface; [`Model::eval`] returns 0 otherwise, and [`Model::shade`] is
+//!   `f_r · max(n·l, 0)`.
+//! - **classic** models (the textbook shading formulas: Lambert, Phong and Blinn-Phong as written in
+//!   illumination-model chapters, toon shading, Strauss): the formula is what [`Bxdf::shade`] returns,
+//!   exactly as written (it clamps what it clamps, for any `l` and `v`), and `f` is that value divided
+//!   by `n·l` (0 where `n·l ≤ 0`), see [`classic_f`].
+//!
+//! **Parameter names.** One concept has one name in every model: `kd` is the diffuse reflectance
+//! (colour), `ks` the specular reflectance or scale, `roughness` a microfacet α, `shininess` a Phong or
+//! Blinn exponent, `f0`, `ior`, `eta`, `k` the Fresnel inputs. Names that papers or other libraries use
+//! for the same things (`albedo`, `rho_d`, `rd`, `diffuse_color`, ...) are refused with a message that
+//! names ours ([`RENAMED_PARAMS`]).
 
 use glam::Vec3;
 
@@ -27,6 +38,9 @@ pub mod strauss;
 pub mod toon;
 pub mod ward;
 
+#[cfg(test)]
+mod lane_tests;
+
 pub use ashikhmin_shirley::AshikhminShirley;
 pub use blinn_phong::BlinnPhong;
 pub use classic::{BlinnPhongClassic, LambertClassic, PhongClassic};
@@ -44,11 +58,17 @@ pub use ward::Ward;
 pub enum ModelKind {
     /// `f` is a BRDF in 1/sr; reciprocity and energy checks apply.
     Physical,
-    /// `shade` is a course formula offered exactly as written.
+    /// `shade` is a textbook shading formula offered exactly as written.
     Classic,
 }
 
-/// The method set every model has (pbrt-v4's BxDF interface, reduced to evaluation).
+/// The method set every model has (pbrt-v4's BxDF interface: value, and sampling through
+/// [`Bxdf::sampler`]).
+///
+/// A model writes its formula once, [`Bxdf::formula`], generic over [`Lane`]; the scalar and lane
+/// forms of `f` and `shade` derive from it with the conventions of the model's [`ModelKind`], so the
+/// scalar path is the lane code with `F = f32` (the same bits as any lane of a batch) and no model can
+/// forget one of them. The four derived methods are not meant to be overridden.
 pub trait Bxdf: Sized + Send + Sync {
     /// Name, parameters and citation.
     const SPEC: ModelSpec;
@@ -58,48 +78,82 @@ pub trait Bxdf: Sized + Send + Sync {
     /// Build from validated parameters (see [`Params::resolve`]).
     fn from_params(p: &Params) -> Result<Self, BrdfError>;
 
-    /// The BRDF value `f_r(l, v)` per RGB channel [1/sr], without the cosine.
+    /// The model's formula on `F::LANES` samples, the one place it is written: the BRDF value `f_r`
+    /// [1/sr] per RGB channel for physical models (called only for lanes where both `l` and `v` are
+    /// above the surface, [`eval_model_lanes`]), the textbook shading value (what a renderer multiplies
+    /// by the light's colour; any `l`, `v`) for classic ones. Only the lanes in `active` matter: the
+    /// others may hold any geometry and their result is discarded.
+    ///
+    /// Write it with `#[cfg_attr(debug_assertions, inline)]` and
+    /// `#[cfg_attr(not(debug_assertions), inline(always))]`, and without closures (see [`crate::simd`]).
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F>;
+
+    /// How to importance-sample the model ([`crate::sampling`]): its lobes, each drawn by one
+    /// technique and weighted by an estimate of its albedo. With it every model has pbrt-v4's BxDF
+    /// method set: value ([`Bxdf::f`]), sample and pdf ([`crate::Model::sample`],
+    /// [`crate::Model::pdf`]). The default refuses, naming the model.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        Err(BrdfError::InvalidInput {
+            name: "model",
+            problem: format!("{} has no importance sampler", Self::SPEC.name),
+        })
+    }
+
+    /// The BRDF value `f_r(l, v)` per RGB channel [1/sr], without the cosine: [`Bxdf::f_lanes`] with
+    /// one lane.
     ///
     /// Physical models are called only when `g.both_above()`.
-    fn f(&self, g: &Geometry) -> Vec3;
+    #[inline]
+    fn f(&self, g: &Geometry) -> Vec3 {
+        self.f_lanes(&LaneGeometry::from(g), true).into()
+    }
 
     /// What a renderer multiplies by the light's color (irradiance at normal incidence):
-    /// `f_r · max(n·l, 0)` for physical models, the course formula for classic ones.
+    /// `f_r · max(n·l, 0)` for physical models, the textbook formula for classic ones;
+    /// [`Bxdf::shade_lanes`] with one lane.
     #[inline]
     fn shade(&self, g: &Geometry) -> Vec3 {
-        self.f(g) * g.nl.max(0.0)
+        self.shade_lanes(&LaneGeometry::from(g), true).into()
     }
 
     /// [`Bxdf::f`] on `F::LANES` samples at once (the batch evaluator uses eight, see
-    /// [`crate::simd`]). Only the lanes in `active` matter: the others may hold any geometry and their
-    /// result is discarded. The default runs the scalar `f` on each active lane. A model whose formula
-    /// is written generically over [`Lane`] overrides this and implements `f` as this method with
-    /// `F = f32`, so that the formula exists once and both paths give the same bits.
-    #[inline]
+    /// [`crate::simd`]): the formula for physical models, the formula divided by `n·l` (0 where
+    /// `n·l ≤ 0`) for classic ones ([`classic_f`]).
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn f_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
-        V3::from_fn(|i| if F::mask_lane(active, i) { self.f(&g.lane(i)) } else { Vec3::ZERO })
+        let value = self.formula(g, active);
+        match Self::KIND {
+            ModelKind::Physical => value,
+            ModelKind::Classic => classic_f_lanes(value, g.nl),
+        }
     }
 
-    /// [`Bxdf::shade`] on `F::LANES` samples at once; the default runs the scalar `shade` on each
-    /// active lane. Models that override [`Bxdf::f_lanes`] and keep the default `shade` override this
-    /// with [`physical_shade_lanes`].
-    #[inline]
+    /// [`Bxdf::shade`] on `F::LANES` samples at once: `f_r · max(n·l, 0)` for physical models, the
+    /// formula itself for classic ones.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn shade_lanes<F: Lane>(&self, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
-        V3::from_fn(|i| if F::mask_lane(active, i) { self.shade(&g.lane(i)) } else { Vec3::ZERO })
+        let value = self.formula(g, active);
+        match Self::KIND {
+            ModelKind::Physical => value.scale(g.nl.max(F::splat(0.0))),
+            ModelKind::Classic => value,
+        }
     }
 }
 
-/// The default [`Bxdf::shade`], `f_r · max(n·l, 0)`, on lanes (for models that override
-/// [`Bxdf::f_lanes`]).
-#[inline(always)]
-pub fn physical_shade_lanes<M: Bxdf, F: Lane>(m: &M, g: &LaneGeometry<F>, active: F::Mask) -> V3<F> {
-    m.f_lanes(g, active).scale(g.nl.max(F::splat(0.0)))
-}
-
-/// `f` of a classic model: its course formula divided by `n·l`, 0 where `n·l ≤ 0`.
+/// `f` of a classic model: its textbook formula divided by `n·l`, 0 where `n·l ≤ 0`.
 #[inline]
 pub fn classic_f(shade: Vec3, g: &Geometry) -> Vec3 {
-    if g.nl > 0.0 { shade / g.nl } else { Vec3::ZERO }
+    classic_f_lanes(V3::<f32>::splat(shade), g.nl).into()
+}
+
+/// [`classic_f`] on lanes: `shade / nl` where `nl > 0`, else 0.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub fn classic_f_lanes<F: Lane>(shade: V3<F>, nl: F) -> V3<F> {
+    let zero = F::splat(0.0);
+    V3::select(nl.gt(zero), shade / nl, V3::splat(Vec3::ZERO))
 }
 
 /// Evaluate `f_r` with the hemisphere convention of the model's kind.
@@ -262,6 +316,60 @@ define_models! {
     data: Measured(crate::measured::Measured),
 }
 
+/// A parameter name this library does not use, and the name it uses for the same concept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenamedParam {
+    /// The name a user may try (from a paper, another library, or an earlier version of this one).
+    pub old: &'static str,
+    /// The name of the same concept here.
+    pub new: &'static str,
+    /// The concept, in words, for the message ("the diffuse reflectance").
+    pub what: &'static str,
+}
+
+const fn renamed(old: &'static str, new: &'static str, what: &'static str) -> RenamedParam {
+    RenamedParam { old, new, what }
+}
+
+/// The one alias table: for messages only (an old name is refused, never accepted). An entry applies to
+/// a model that has a parameter `new` and none called `old`; the first that applies wins, so e.g.
+/// `color` means `kd` for `lambert_classic` and `base_color` for `strauss`, and `ks` means Strauss's
+/// `k_shadow` only where there is no specular reflectance `ks`.
+pub const RENAMED_PARAMS: &[RenamedParam] = &[
+    renamed("albedo", "kd", "the diffuse reflectance"),
+    renamed("rho_d", "kd", "the diffuse reflectance"),
+    renamed("rd", "kd", "the diffuse reflectance"),
+    renamed("diffuse_color", "kd", "the diffuse reflectance"),
+    renamed("diffuse", "kd", "the diffuse reflectance"),
+    renamed("diffuse_reflectance", "kd", "the diffuse reflectance"),
+    renamed("color", "kd", "the diffuse reflectance"),
+    renamed("base_color", "kd", "the diffuse reflectance"),
+    renamed("rho_s", "ks", "the specular reflectance"),
+    renamed("rs", "ks", "the specular reflectance"),
+    renamed("specular_color", "ks", "the specular reflectance"),
+    renamed("specular", "ks", "the specular reflectance"),
+    renamed("specular_reflectance", "ks", "the specular reflectance"),
+    renamed("diffuse_mid_color", "kd_mid", "the mid-band diffuse colour"),
+    renamed("color", "base_color", "the surface colour"),
+    renamed("albedo", "base_color", "the surface colour"),
+    renamed("kd", "base_color", "the surface colour"),
+    renamed("diffuse_color", "base_color", "the surface colour"),
+    renamed("kf", "k_fresnel", "Strauss's Fresnel constant k_f"),
+    renamed("ks", "k_shadow", "Strauss's shadow constant k_s"),
+    renamed("kg", "k_shadow", "Strauss's shadow constant k_s"),
+    renamed("kj", "k_offspecular", "Strauss's off-specular constant k_j"),
+    renamed("alpha", "roughness", "the microfacet roughness alpha"),
+    renamed("roughness", "sigma", "the roughness (slope-angle deviation sigma, radians)"),
+    renamed("exponent", "shininess", "the specular exponent"),
+    renamed("specular_exponent", "shininess", "the specular exponent"),
+];
+
+/// The entry of [`RENAMED_PARAMS`] that explains why `spec` has no parameter `name`, if any.
+pub fn renamed_param(spec: &ModelSpec, name: &str) -> Option<&'static RenamedParam> {
+    let has = |p: &str| spec.params.iter().any(|q| q.name == p);
+    RENAMED_PARAMS.iter().find(|r| r.old == name && has(r.new) && !has(r.old))
+}
+
 /// Look up a model's spec by registry name.
 pub fn spec(name: &str) -> Option<&'static ModelSpec> {
     MODEL_SPECS.iter().copied().find(|s| s.name == name)
@@ -284,22 +392,66 @@ mod tests {
         }
     }
 
+    struct KindOf;
+    impl ModelVisitor for KindOf {
+        type Output = ModelKind;
+        fn visit<M: Bxdf>(self, _: &M) -> ModelKind {
+            M::KIND
+        }
+    }
+
+    #[test]
+    fn every_model_is_evaluated_with_the_conventions_its_registry_flag_announces() {
+        // `physical` is what users and the checks read; `KIND` is what eval/shade obey. A mismatch would
+        // run the BRDF checks on a formula, or give a BRDF the formula conventions.
+        for s in MODEL_SPECS {
+            let kind = Model::build(s.name, &[]).unwrap().visit(KindOf);
+            assert_eq!(kind == ModelKind::Physical, s.physical, "{}", s.name);
+        }
+    }
+
+    #[test]
+    fn strauss_is_classic_because_its_formula_is_not_a_reciprocal_brdf() {
+        // Strauss's highlight reads the incidence angle only (F(x_i)) and carries no n·l, so f(l, v) and
+        // f(v, l) differ: registered as physical, the reciprocity and energy checks would be run on it.
+        let m = Model::build("strauss", &[]).unwrap();
+        assert!(!m.spec().physical);
+        assert_eq!(m.visit(KindOf), ModelKind::Classic);
+        let (l, v) = (Vec3::new(0.95, 0.0, 0.31), Vec3::new(-0.6, 0.0, 0.8));
+        let g = Geometry::new(l, v, Vec3::Z, None).unwrap();
+        let (a, b) = (m.eval(&g), m.eval(&g.swapped()));
+        assert!((a - b).abs().max_element() > 0.05 * a.max_element(), "{a} {b}");
+        // And its shade is the formula itself (Q_d + Q_s): with a black surface colour only the white
+        // dielectric highlight Q_s = (r·v)^h r_j is left, not divided or multiplied by n·l. At the mirror
+        // direction r·v = 1, so shade = r_j ≤ 1 however grazing the light is.
+        let black = Model::build("strauss", &[("base_color".into(), Input::Number(0.0))]).unwrap();
+        let l = Vec3::new(0.95, 0.0, 0.05).normalize();
+        let g = Geometry::new(l, Vec3::new(-l.x, -l.y, l.z), Vec3::Z, None).unwrap();
+        let s = black.shade(&g);
+        let Model::Strauss(st) = &black else { unreachable!() };
+        let x = g.n.cross(g.l).length().atan2(g.nl) * std::f32::consts::FRAC_2_PI;
+        let r_n = 1.0 - (1.0 - 0.5f32.powi(3)); // (1 − t) − r_d at s = 0.5, t = 0
+        let r_j = (r_n + (r_n + 0.1) * st.fresnel(x) * st.shadow(x) * st.shadow(x)).min(1.0);
+        assert!((s - Vec3::splat(r_j)).abs().max_element() < 1e-5 && r_j > 0.2, "{s} vs r_j = {r_j}");
+        assert_eq!(black.eval(&g), s / g.nl);
+    }
+
+    /// A parameter's default as a caller would give it.
+    fn default_input(p: &crate::params::ParamSpec) -> Input {
+        match &p.default {
+            crate::params::Value::Scalar(x) => Input::Number(f64::from(*x)),
+            crate::params::Value::Color(c) => Input::Numbers(c.iter().map(|&x| f64::from(x)).collect()),
+            crate::params::Value::Choice(c) => Input::Text((*c).to_string()),
+            crate::params::Value::Bool(b) => Input::Bool(*b),
+            crate::params::Value::Array(a) => Input::Numbers(a.iter().map(|&x| f64::from(x)).collect()),
+        }
+    }
+
     #[test]
     fn every_default_lies_in_its_documented_range() {
         for s in MODEL_SPECS {
             for p in s.params {
-                p.validate(&match &p.default {
-                    crate::params::Value::Scalar(x) => Input::Number(f64::from(*x)),
-                    crate::params::Value::Color(c) => {
-                        Input::Numbers(c.iter().map(|&x| f64::from(x)).collect())
-                    }
-                    crate::params::Value::Choice(c) => Input::Text((*c).to_string()),
-                    crate::params::Value::Bool(b) => Input::Bool(*b),
-                    crate::params::Value::Array(a) => {
-                        Input::Numbers(a.iter().map(|&x| f64::from(x)).collect())
-                    }
-                })
-                .unwrap_or_else(|e| panic!("{}.{}: {e}", s.name, p.name));
+                p.validate(&default_input(p)).unwrap_or_else(|e| panic!("{}.{}: {e}", s.name, p.name));
             }
         }
     }
@@ -308,9 +460,69 @@ mod tests {
     fn unknown_names_are_refused_with_the_known_ones_listed() {
         let e = Model::build("nope", &[]).unwrap_err().to_string();
         assert!(e.contains("lambert"), "{e}");
-        let e = Model::build("lambert", &[("albedoo".into(), Input::Number(0.5))]).unwrap_err().to_string();
-        assert!(e.contains("albedoo") && e.contains("albedo"), "{e}");
-        let e = Model::build("lambert", &[("albedo".into(), Input::Number(-0.5))]).unwrap_err().to_string();
-        assert!(e.contains("albedo") && e.contains("[0, 1]"), "{e}");
+        let e = Model::build("lambert", &[("kdd".into(), Input::Number(0.5))]).unwrap_err().to_string();
+        assert!(e.contains("kdd") && e.contains("kd"), "{e}");
+        let e = Model::build("lambert", &[("kd".into(), Input::Number(-0.5))]).unwrap_err().to_string();
+        assert!(e.contains("kd") && e.contains("[0, 1]"), "{e}");
+    }
+
+    fn refusal(model: &str, name: &str) -> String {
+        Model::build(model, &[(name.into(), Input::Number(0.5))]).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn an_old_or_foreign_parameter_name_is_refused_with_the_name_of_the_same_concept_here() {
+        assert!(
+            refusal("lambert", "albedo")
+                .starts_with("lambert has no parameter 'albedo': the diffuse reflectance is 'kd'"),
+            "{}",
+            refusal("lambert", "albedo")
+        );
+        for (model, old, new) in [
+            ("lambert_classic", "color", "kd"),
+            ("oren_nayar", "albedo", "kd"),
+            ("oren_nayar_full", "albedo", "kd"),
+            ("toon", "diffuse_color", "kd"),
+            ("toon", "specular_color", "ks"),
+            ("toon", "diffuse_mid_color", "kd_mid"),
+            ("ward", "rho_d", "kd"),
+            ("ward", "rho_s", "ks"),
+            ("ashikhmin_shirley", "rd", "kd"),
+            ("ashikhmin_shirley", "rs", "ks"),
+            ("lafortune", "rho_d", "kd"),
+            ("lafortune", "rho_s", "ks"),
+            ("cook_torrance", "albedo", "kd"),
+            ("cook_torrance", "alpha", "roughness"),
+            ("oren_nayar", "roughness", "sigma"),
+            ("strauss", "color", "base_color"),
+            ("strauss", "kd", "base_color"),
+            ("strauss", "kf", "k_fresnel"),
+            ("strauss", "ks", "k_shadow"),
+            ("strauss", "kj", "k_offspecular"),
+        ] {
+            let e = refusal(model, old);
+            assert!(e.starts_with(&format!("{model} has no parameter '{old}': ")), "{e}");
+            assert!(e.contains(&format!(" is '{new}'")), "{model}.{old}: {e}");
+            // The suggestion is a parameter the model has: following it builds the model.
+            let p = spec(model).unwrap().params.iter().find(|p| p.name == new).unwrap();
+            assert!(Model::build(model, &[(new.into(), default_input(p))]).is_ok(), "{model}.{new}");
+        }
+        // A name that means nothing gets the plain refusal with the list of parameters.
+        let e = refusal("ward", "glossiness");
+        assert!(e.contains("no parameter \"glossiness\"") && e.contains("kd, ks, alpha_x"), "{e}");
+    }
+
+    #[test]
+    fn every_alias_points_to_a_parameter_some_model_has_and_never_shadows_a_real_one() {
+        for r in RENAMED_PARAMS {
+            let target = MODEL_SPECS.iter().any(|s| s.params.iter().any(|p| p.name == r.new));
+            assert!(target, "{} -> {}: no model has {}", r.old, r.new, r.new);
+        }
+        // A parameter a model has is never answered by the table.
+        for s in MODEL_SPECS {
+            for p in s.params {
+                assert!(renamed_param(s, p.name).is_none(), "{}.{}", s.name, p.name);
+            }
+        }
     }
 }

@@ -1,10 +1,10 @@
 //! Oren-Nayar rough diffuse reflection (Oren & Nayar 1994, "Generalization of Lambert's reflectance
 //! model", SIGGRAPH '94): the qualitative model ([`OrenNayar`]) and the full model with the
-//! interreflection term ([`OrenNayarFull`]). Seeds 000, 001, 002, 004.
+//! interreflection term ([`OrenNayarFull`]).
 //!
 //! Both are evaluated without building a tangent frame, from the tangent-plane parts
 //! `w⊥ = w − (n·w)n` of `l` and `v`: `s = l⊥·v⊥ = sin θ_i sin θ_r cos Δφ`, `sin θ = |w⊥|`, and
-//! `cos Δφ = s / (|l⊥||v⊥|)` — seed 000's `dot(normalize(L − (L·N)N), normalize(V − (V·N)N))`.
+//! `cos Δφ = s / (|l⊥||v⊥|)` — a shader's `dot(normalize(L − (L·N)N), normalize(V − (V·N)N))`.
 //! At normal incidence (`sin θ = 0`) the azimuth is undefined; every term it multiplies then carries a
 //! factor `tan β`, `β²` or `sin β` that is 0, so the value is continuous there and no NaN arises.
 //!
@@ -18,11 +18,12 @@
 
 use std::f32::consts::{FRAC_1_PI, FRAC_2_PI, FRAC_PI_2};
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
+use crate::BrdfError;
 use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
-use crate::{BrdfError, Geometry};
+use crate::simd::{Lane, LaneGeometry, V3};
 
 /// `A` of the qualitative model, `1 − 0.5 σ²/(σ² + c)`, with `c` = 0.33 (Oren & Nayar 1994) or
 /// 0.57 (the interreflection-compensated constant).
@@ -34,9 +35,10 @@ pub fn oren_nayar_a(sigma: f32, c: f32) -> f32 {
 
 /// The tangent-plane part `w⊥ = w − (n·w)n` of a unit direction `w` \[dimensionless, length sin θ\],
 /// given `nw = n·w`.
-#[inline]
-fn tangent_part(w: Vec3A, n: Vec3A, nw: f32) -> Vec3A {
-    w - n * nw
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn tangent_part<F: Lane>(w: V3<F>, n: V3<F>, nw: F) -> V3<F> {
+    w - n.scale(nw)
 }
 
 /// `(cos Δφ, 1 − |cos Δφ|)` \[dimensionless\] of the azimuth between the tangent-plane parts `lp`, `vp`
@@ -47,16 +49,16 @@ fn tangent_part(w: Vec3A, n: Vec3A, nw: f32) -> Vec3A {
 /// the rounding of `cos Δφ ≈ ∓1`, and the full model multiplies it by `C3 tan((α+β)/2)`, which grows
 /// like `1/cos` at grazing (1 400 ulps of the terms' summed magnitude at σ = π/2, both directions
 /// within 0.1 rad of the horizon; 5 ulps this way, in a float32 emulation).
-#[inline]
-fn azimuth_cosines(lp: Vec3A, vp: Vec3A, sin_i: f32, sin_r: f32) -> (f32, f32) {
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn azimuth_cosines<F: Lane>(lp: V3<F>, vp: V3<F>, sin_i: F, sin_r: F) -> (F, F) {
     let sin_prod = sin_i * sin_r;
-    if sin_prod < f32::MIN_POSITIVE {
-        return (0.0, 1.0);
-    }
+    let defined = !sin_prod.lt(F::splat(f32::MIN_POSITIVE));
     let cos_dphi = (lp.dot(vp) / sin_prod).clamp(-1.0, 1.0);
     let (el, ev) = (lp / sin_i, vp / sin_r);
-    let d = if cos_dphi >= 0.0 { el - ev } else { el + ev };
-    (cos_dphi, (0.5 * d.dot(d)).min(1.0))
+    let d = V3::select(cos_dphi.ge(F::splat(0.0)), el - ev, el + ev);
+    let one_minus_abs = (F::splat(0.5) * d.dot(d)).min(F::splat(1.0));
+    (F::select(defined, cos_dphi, F::splat(0.0)), F::select(defined, one_minus_abs, F::splat(1.0)))
 }
 
 /// `B` of the qualitative model, `0.45 σ²/(σ² + 0.09)` (Oren & Nayar 1994).
@@ -69,7 +71,7 @@ pub fn oren_nayar_b(sigma: f32) -> f32 {
 /// Which constant the qualitative model's `A` uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum OrenNayarVariant {
-    /// `A = 1 − 0.5 σ²/(σ² + 0.33)`: Oren & Nayar 1994's qualitative model (seeds 000, 001; pbrt-v3).
+    /// `A = 1 − 0.5 σ²/(σ² + 0.33)`: Oren & Nayar 1994's qualitative model (as in pbrt-v3).
     Qualitative,
     /// `A = 1 − 0.5 σ²/(σ² + 0.57)`: compensates the energy of the interreflection term the qualitative
     /// model leaves out (Portsmouth, Kutz, Hill 2025, "EON", arXiv 2410.18026, "discrepancy-compensated A").
@@ -86,18 +88,24 @@ impl OrenNayarVariant {
     }
 }
 
-const ALBEDO: ParamSpec =
-    ParamSpec::color("albedo", [0.8, 0.8, 0.8], 0.0, 1.0, "reflectance", "facet albedo rho");
+const KD: ParamSpec = ParamSpec::color(
+    "kd",
+    [0.8, 0.8, 0.8],
+    0.0,
+    1.0,
+    "reflectance",
+    "diffuse reflectance of the facets (rho)",
+);
 const SIGMA: ParamSpec = ParamSpec::scalar(
     "sigma",
-    0.3,
+    0.5,
     0.0,
     FRAC_PI_2,
     "radians",
     "roughness: standard deviation of the facet slope angle (0 = Lambert)",
 );
 
-/// The qualitative Oren-Nayar BRDF [1/sr] (Oren & Nayar 1994, eq. 30; seeds 000, 001):
+/// The qualitative Oren-Nayar BRDF [1/sr] (Oren & Nayar 1994, eq. 30), with `ρ` = `kd`:
 ///
 /// ```text
 /// f_r = ρ/π · (A + B · max(0, cos Δφ) · sin α · tan β),   α = max(θ_i, θ_r), β = min(θ_i, θ_r)
@@ -113,8 +121,8 @@ const SIGMA: ParamSpec = ParamSpec::scalar(
 /// σ = 20° with c = 0.33); the compensated constant raises it toward the full model's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrenNayar {
-    /// Facet albedo ρ.
-    albedo: Vec3,
+    /// Diffuse reflectance ρ of the facets.
+    kd: Vec3,
     /// Roughness σ \[rad\].
     sigma: f32,
     /// Constant used in `A`.
@@ -126,11 +134,12 @@ pub struct OrenNayar {
 }
 
 impl OrenNayar {
-    /// Qualitative Oren-Nayar of albedo `albedo`, roughness `sigma` \[rad\] and the given `A` constant.
-    pub fn new(albedo: Vec3, sigma: f32, variant: OrenNayarVariant) -> Self {
-        let rho_pi = albedo * FRAC_1_PI;
+    /// Qualitative Oren-Nayar of facet reflectance `kd`, roughness `sigma` \[rad\] and the given `A`
+    /// constant.
+    pub fn new(kd: Vec3, sigma: f32, variant: OrenNayarVariant) -> Self {
+        let rho_pi = kd * FRAC_1_PI;
         Self {
-            albedo,
+            kd,
             sigma,
             variant,
             a_term: rho_pi * oren_nayar_a(sigma, variant.a_constant()),
@@ -138,10 +147,10 @@ impl OrenNayar {
         }
     }
 
-    /// Facet albedo ρ.
+    /// Diffuse reflectance ρ of the facets.
     #[inline]
-    pub fn albedo(&self) -> Vec3 {
-        self.albedo
+    pub fn kd(&self) -> Vec3 {
+        self.kd
     }
 
     /// Roughness σ \[rad\].
@@ -160,12 +169,12 @@ impl OrenNayar {
 impl Bxdf for OrenNayar {
     const SPEC: ModelSpec = ModelSpec {
         name: "oren_nayar",
-        summary: "qualitative Oren-Nayar, f_r = albedo/pi*(A + B*max(0,cos dphi)*sin(alpha)*tan(beta))",
-        source: "Oren & Nayar 1994; seeds 000, 001, 002; EON (Portsmouth et al. 2025) for the 0.57 constant",
+        summary: "qualitative Oren-Nayar, f_r = kd/pi*(A + B*max(0,cos dphi)*sin(alpha)*tan(beta))",
+        source: "M. Oren, S. K. Nayar, Generalization of Lambert's Reflectance Model, SIGGRAPH (1994), eq. 30; the 0.57 constant: J. Portsmouth, P. Kutz, S. Hill, EON, arXiv:2410.18026 (2025)",
         physical: true,
         anisotropic: false,
         params: &[
-            ALBEDO,
+            KD,
             SIGMA,
             ParamSpec::choice(
                 "variant",
@@ -177,27 +186,34 @@ impl Bxdf for OrenNayar {
     };
     const KIND: ModelKind = ModelKind::Physical;
 
+    /// Cosine-weighted ([`crate::sampling::cosine`]); `f·cos/p = π f` stays within a factor of
+    /// `A ± B` of the albedo.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique};
+        Ok(Sampler::new().with(Technique::Cosine, 1.0))
+    }
+
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         let variant = match p.choice("variant") {
             "compensated" => OrenNayarVariant::Compensated,
             _ => OrenNayarVariant::Qualitative,
         };
-        Ok(Self::new(p.color("albedo"), p.scalar("sigma"), variant))
+        Ok(Self::new(p.color("kd"), p.scalar("sigma"), variant))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
         // max(0, cos Δφ) sin α tan β = max(0, s) / cos β; cos β = max(n·l, n·v) > 0 here. s = l⊥·v⊥
         // from components, not l·v − (n·l)(n·v) (two numbers ≈ 1 near the normal: module notes).
         let s = tangent_part(g.l, g.n, g.nl).dot(tangent_part(g.v, g.n, g.nv));
-        let angular = s.max(0.0) / g.nl.max(g.nv);
-        self.a_term + self.b_term * angular
+        let angular = s.max(F::splat(0.0)) / g.nl.max(g.nv);
+        V3::splat(self.a_term) + V3::splat(self.b_term).scale(angular)
     }
 }
 
-/// The full Oren-Nayar BRDF with the interreflection term [1/sr] (Oren & Nayar 1994, eqs. 27–29 as
-/// summarised in seed 004 "The Oren-Nayar Illumination Model (7)"; BRDF Explorer `orennayar.brdf`;
-/// research notes (b4)):
+/// The full Oren-Nayar BRDF with the interreflection term [1/sr] (Oren & Nayar 1994, eqs. 27–29;
+/// BRDF Explorer `orennayar.brdf`), with `ρ` = `kd`:
 ///
 /// ```text
 /// f_r = L1 + L2
@@ -209,10 +225,10 @@ impl Bxdf for OrenNayar {
 /// C3 = 0.125 σ²/(σ² + 0.09) · (4αβ/π²)²
 /// ```
 ///
-/// **Where the seed differs.** Seed 004 prints `C1 = 1 − 0.5 σ²/(σ² + 0.3)` and `L2` with `ρ` instead
-/// of `ρ²`. The paper (and BRDF Explorer, OpenPBR's `ON_full`) use 0.33 — the same constant as the
-/// qualitative `A` — and `ρ²`, because the interreflected light has been reflected twice by facets of
-/// albedo ρ. The paper's form is used here. With `interreflection = false` only `L1` is evaluated.
+/// **Where summaries differ.** Some textbook summaries print `C1 = 1 − 0.5 σ²/(σ² + 0.3)` and `L2`
+/// with `ρ` instead of `ρ²`. The paper (and BRDF Explorer, OpenPBR's `ON_full`) use 0.33 — the same
+/// constant as the qualitative `A` — and `ρ²`, because the interreflected light has been reflected
+/// twice by facets of albedo ρ. The paper's form is used here. With `interreflection = false` only `L1` is evaluated.
 ///
 /// Cost: two `atan2` (α and β are needed as angles in `C2`, `C3` and `L2`; `atan2(|w⊥|, n·w)`, not
 /// `acos(n·w)`, for the module notes' reason); `tan β` and
@@ -226,8 +242,8 @@ impl Bxdf for OrenNayar {
 /// 5; 8 now. The model is reciprocal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrenNayarFull {
-    /// Facet albedo ρ.
-    albedo: Vec3,
+    /// Diffuse reflectance ρ of the facets.
+    kd: Vec3,
     /// Roughness σ \[rad\].
     sigma: f32,
     /// Whether the interreflection term `L2` is included.
@@ -245,14 +261,14 @@ pub struct OrenNayarFull {
 }
 
 impl OrenNayarFull {
-    /// Full Oren-Nayar of albedo `albedo`, roughness `sigma` \[rad\], with or without `L2`.
-    pub fn new(albedo: Vec3, sigma: f32, interreflection: bool) -> Self {
+    /// Full Oren-Nayar of facet reflectance `kd`, roughness `sigma` \[rad\], with or without `L2`.
+    pub fn new(kd: Vec3, sigma: f32, interreflection: bool) -> Self {
         let s2 = sigma * sigma;
         let k = s2 / (s2 + 0.09);
-        let rho_pi = albedo * FRAC_1_PI;
-        let l2_term = if interreflection { albedo * rho_pi * (0.17 * s2 / (s2 + 0.13)) } else { Vec3::ZERO };
+        let rho_pi = kd * FRAC_1_PI;
+        let l2_term = if interreflection { kd * rho_pi * (0.17 * s2 / (s2 + 0.13)) } else { Vec3::ZERO };
         Self {
-            albedo,
+            kd,
             sigma,
             interreflection,
             rho_pi,
@@ -263,10 +279,10 @@ impl OrenNayarFull {
         }
     }
 
-    /// Facet albedo ρ.
+    /// Diffuse reflectance ρ of the facets.
     #[inline]
-    pub fn albedo(&self) -> Vec3 {
-        self.albedo
+    pub fn kd(&self) -> Vec3 {
+        self.kd
     }
 
     /// Roughness σ \[rad\].
@@ -286,56 +302,55 @@ impl Bxdf for OrenNayarFull {
     const SPEC: ModelSpec = ModelSpec {
         name: "oren_nayar_full",
         summary: "full Oren-Nayar with C1, C2, C3 and the interreflection term L2 (rho^2)",
-        source: "Oren & Nayar 1994 eqs. 27-29; seed 004 (C1 constant 0.33 and rho^2 in L2 per the paper)",
+        source: "M. Oren, S. K. Nayar, Generalization of Lambert's Reflectance Model, SIGGRAPH (1994), eqs. 27-29 (C1 constant 0.33, rho^2 in L2)",
         physical: true,
         anisotropic: false,
-        params: &[
-            ALBEDO,
-            SIGMA,
-            ParamSpec::flag("interreflection", true, "include the interreflection term L2"),
-        ],
+        params: &[KD, SIGMA, ParamSpec::flag("interreflection", true, "include the interreflection term L2")],
     };
     const KIND: ModelKind = ModelKind::Physical;
 
-    fn from_params(p: &Params) -> Result<Self, BrdfError> {
-        Ok(Self::new(p.color("albedo"), p.scalar("sigma"), p.flag("interreflection")))
+    /// Cosine-weighted ([`crate::sampling::cosine`]); `f·cos/p = π f` stays within a factor of
+    /// `A ± B` of the albedo.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique};
+        Ok(Sampler::new().with(Technique::Cosine, 1.0))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
+    fn from_params(p: &Params) -> Result<Self, BrdfError> {
+        Ok(Self::new(p.color("kd"), p.scalar("sigma"), p.flag("interreflection")))
+    }
+
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        let (zero, one) = (F::splat(0.0), F::splat(1.0));
         let (lp, vp) = (tangent_part(g.l, g.n, g.nl), tangent_part(g.v, g.n, g.nv));
         let (cos_i, cos_r) = (g.nl, g.nv);
-        let (sin_i, sin_r) = (lp.length(), vp.length());
+        let (sin_i, sin_r) = (lp.dot(lp).sqrt(), vp.dot(vp).sqrt());
         // α = max(θi, θr) is the angle with the smaller cosine (ties: the larger sine, so that swapping
         // l and v picks the same pair).
-        let (cos_a, sin_a, cos_b, sin_b) = if cos_i < cos_r || (cos_i == cos_r && sin_i > sin_r) {
-            (cos_i, sin_i, cos_r, sin_r)
-        } else {
-            (cos_r, sin_r, cos_i, sin_i)
-        };
+        let i_is_alpha = cos_i.lt(cos_r) | (cos_i.eq(cos_r) & sin_i.gt(sin_r));
+        let (cos_a, sin_a) = (F::select(i_is_alpha, cos_i, cos_r), F::select(i_is_alpha, sin_i, sin_r));
+        let (cos_b, sin_b) = (F::select(i_is_alpha, cos_r, cos_i), F::select(i_is_alpha, sin_r, sin_i));
         let (alpha, beta) = (sin_a.atan2(cos_a), sin_b.atan2(cos_b));
 
         // cos Δφ and 1 − |cos Δφ| from the tangent-plane projections; undefined (and irrelevant) at
         // normal incidence, where every term they multiply vanishes: 0 and 1 there.
         let (cos_dphi, one_minus_abs_cos) = azimuth_cosines(lp, vp, sin_i, sin_r);
-        let two_beta_pi = beta * FRAC_2_PI;
-        let c2 = self.c2_scale
-            * if cos_dphi >= 0.0 {
-                sin_a
-            } else if two_beta_pi <= 0.5 {
-                sin_a - two_beta_pi * two_beta_pi * two_beta_pi
-            } else {
-                // sin α − (2β/π)³ = (1 − (1 − u)³) − (1 − sin α) with u = 1 − 2β/π, both small here.
-                let u = cos_b.atan2(sin_b) * FRAC_2_PI;
-                u * (3.0 - 3.0 * u + u * u) - cos_a * cos_a / (1.0 + sin_a)
-            };
-        let four_ab = alpha * beta * (2.0 * FRAC_2_PI * FRAC_1_PI); // 4αβ/π²
-        let c3 = self.c3_scale * four_ab * four_ab;
+        let two_beta_pi = beta * F::splat(FRAC_2_PI);
+        let near = sin_a - two_beta_pi * two_beta_pi * two_beta_pi;
+        // sin α − (2β/π)³ = (1 − (1 − u)³) − (1 − sin α) with u = 1 − 2β/π, both small for β > π/4.
+        let u = cos_b.atan2(sin_b) * F::splat(FRAC_2_PI);
+        let far = u * (F::splat(3.0) - F::splat(3.0) * u + u * u) - cos_a * cos_a / (one + sin_a);
+        let behind = F::select(two_beta_pi.le(F::splat(0.5)), near, far);
+        let c2 = F::splat(self.c2_scale) * F::select(cos_dphi.ge(zero), sin_a, behind);
+        let four_ab = alpha * beta * F::splat(2.0 * FRAC_2_PI * FRAC_1_PI); // 4αβ/π²
+        let c3 = F::splat(self.c3_scale) * four_ab * four_ab;
         let tan_b = sin_b / cos_b;
         let tan_half_sum = (sin_a + sin_b) / (cos_a + cos_b);
 
-        let l1 = self.c1 + cos_dphi * c2 * tan_b + one_minus_abs_cos * c3 * tan_half_sum;
-        let l2 = 1.0 - cos_dphi * two_beta_pi * two_beta_pi;
-        self.rho_pi * l1 + self.l2_term * l2
+        let l1 = F::splat(self.c1) + cos_dphi * c2 * tan_b + one_minus_abs_cos * c3 * tan_half_sum;
+        let l2 = one - cos_dphi * two_beta_pi * two_beta_pi;
+        V3::splat(self.rho_pi).scale(l1) + V3::splat(self.l2_term).scale(l2)
     }
 }

@@ -1,14 +1,17 @@
 //! Energy-normalised ("modified") Phong BRDF: `f_r = kd/π + ks·(γ+2)/(2π)·max(r·v, 0)^γ`
-//! (seeds 002 "Normalization", 003 "Phong reflection model"; Lewis 1994; Lafortune & Willems 1994).
+//! (R. R. Lewis, "Making Shaders More Physically Plausible", Computer Graphics Forum 13(2), 1994;
+//! E. P. Lafortune, Y. D. Willems, "Using the Modified Phong Reflectance Model for Physically Based
+//! Rendering", KU Leuven CW 197, 1994).
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
 use glam::Vec3;
 
+use crate::BrdfError;
 use crate::models::classic::MAX_SHININESS;
 use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
-use crate::{BrdfError, Geometry};
+use crate::simd::{Lane, LaneGeometry, V3};
 
 /// Physical Phong BRDF [1/sr]:
 ///
@@ -22,7 +25,7 @@ use crate::{BrdfError, Geometry};
 /// shaders more physically plausible"). The albedo is therefore `≤ kd + ks`, equal at normal incidence;
 /// energy is conserved when `kd + ks ≤ 1` per channel, which is the caller's choice (not enforced, as in
 /// Lafortune & Willems 1994). `r·v` is symmetric in `l` and `v`, so the BRDF is reciprocal — unlike the
-/// course formula ([`crate::models::PhongClassic`]), whose `shade` has no `n·l` factor on the specular
+/// textbook formula ([`crate::models::PhongClassic`]), whose `shade` has no `n·l` factor on the specular
 /// term. It is evaluated as `(1 − d)^γ` from the deficit `d = 1 − r·v` (`mirror_deficit`,
 /// `pow_one_minus` below), not from `r·v` itself: see those for why.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,7 +71,7 @@ impl Bxdf for Phong {
     const SPEC: ModelSpec = ModelSpec {
         name: "phong",
         summary: "energy-normalised Phong, f_r = kd/pi + ks*(shininess+2)/(2pi)*max(r.v,0)^shininess",
-        source: "seeds 002, 003; Lewis 1994; Lafortune & Willems 1994",
+        source: "R. R. Lewis, Making Shaders More Physically Plausible, Computer Graphics Forum 13(2) (1994); E. P. Lafortune, Y. D. Willems, Using the Modified Phong Reflectance Model for Physically Based Rendering, KU Leuven CW 197 (1994)",
         physical: true,
         anisotropic: false,
         params: &[
@@ -86,18 +89,26 @@ impl Bxdf for Phong {
     };
     const KIND: ModelKind = ModelKind::Physical;
 
+    /// Cosine-weighted for `kd`, Phong's lobe `(r·v)^γ` about the mirror direction of `v` for `ks`
+    /// (Lafortune & Willems 1994; [`crate::sampling::cosine_power`]), chosen in proportion to `kd : ks`.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique, mean};
+        Ok(Sampler::new()
+            .with(Technique::Cosine, mean(self.kd))
+            .with(Technique::phong(self.shininess), mean(self.ks)))
+    }
+
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         Ok(Self::new(p.color("kd"), p.color("ks"), p.scalar("shininess")))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
         // max(r·v, 0)^γ from the deficit d = 1 − r·v (bit-for-bit symmetric in l and v), r·v ≤ 0 ⇔ d ≥ 1.
         let d = mirror_deficit(g);
-        if d >= 1.0 {
-            return self.diffuse;
-        }
-        self.diffuse + self.specular * pow_one_minus(d, self.shininess)
+        let lobe = F::select(d.lt(F::splat(1.0)), pow_one_minus(d, self.shininess), F::splat(0.0));
+        V3::splat(self.diffuse) + V3::splat(self.specular).scale(lobe)
     }
 }
 
@@ -105,7 +116,7 @@ impl Bxdf for Phong {
 /// `r = 2(n·l)n − l` and `w⊥ = w − (n·w)n` the tangent-plane part (in a frame with `n = z`,
 /// `r = (−l⊥, n·l)`, so `r − v = (−(l⊥ + v⊥), n·l − n·v)` and `1 − r·v = |r − v|²/2` for unit vectors).
 ///
-/// Why not `r·v = 2(n·l)(n·v) − l·v` (seed 003) or `(n·l)(n·v) − l⊥·v⊥`: a Phong lobe lives where `r·v`
+/// Why not `r·v = 2(n·l)(n·v) − l·v` (the textbook form) or `(n·l)(n·v) − l⊥·v⊥`: a Phong lobe lives where `r·v`
 /// is within `~1/γ` of 1, and a float32 number near 1 is only known to `2^-24` absolute, which `x^γ`
 /// turns into a relative error of `γ·2^-24` and more (the cosine form rounds `2(n·l)(n·v) ≈ 2` and
 /// `l·v ≈ 1`: 7.0e-3 relative at γ = 10000 near the normal, in a float32 emulation). The
@@ -115,26 +126,24 @@ impl Bxdf for Phong {
 /// error is `~|r − v|·2^-24`: the float32 input floor (γ = 10000: 6.9e-5 relative, where rounding the
 /// inputs alone moves the float64 value by 4.7e-5). Bit-for-bit symmetric in `l` and `v`.
 /// tests/test_phong_precision.py bounds it against a float64 oracle.
-#[inline]
-pub(crate) fn mirror_deficit(g: &Geometry) -> f32 {
-    let s = (g.l - g.n * g.nl) + (g.v - g.n * g.nv);
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn mirror_deficit<F: Lane>(g: &LaneGeometry<F>) -> F {
+    let s = (g.l - g.n.scale(g.nl)) + (g.v - g.n.scale(g.nv));
     let dn = g.nl - g.nv;
-    0.5 * (s.dot(s) + dn * dn)
+    F::splat(0.5) * (s.dot(s) + dn * dn)
 }
 
 /// `clamp(1 − d, 0, 1)^γ` for `d ≥ 0` [dimensionless], as `exp(γ·ln_1p(−d))` so that `1 − d` is never
 /// rounded to float32 (that rounding alone costs `γ·2^-25` relative, 3e-4 at γ = 10000). The only
 /// float32 errors left are those of `d`, of the product and of `exp`: a few `2^-24` times
 /// `1 + |ln result|`. `d ≥ 1` (a cosine at or below 0) gives `0^γ`: 0, or 1 for γ = 0 as `powf` has it.
-#[inline]
-pub(crate) fn pow_one_minus(d: f32, gamma: f32) -> f32 {
-    if d < 1.0 {
-        (gamma * (-d).ln_1p()).exp()
-    } else if gamma == 0.0 {
-        1.0
-    } else {
-        0.0
-    }
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn pow_one_minus<F: Lane>(d: F, gamma: f32) -> F {
+    // −d as d·(−1): the same bits in every lane type (see `simd`).
+    let p = (F::splat(gamma) * (d * F::splat(-1.0)).ln_1p()).exp();
+    F::select(d.lt(F::splat(1.0)), p, F::splat(if gamma == 0.0 { 1.0 } else { 0.0 }))
 }
 
 #[cfg(test)]
@@ -142,6 +151,11 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
+    use crate::Geometry;
+
+    fn deficit(g: &Geometry) -> f32 {
+        mirror_deficit(&LaneGeometry::from(g))
+    }
 
     /// A few unit directions above the surface `n = z`, from the normal (1e-4 rad) to grazing.
     fn directions() -> impl Iterator<Item = Vec3> {
@@ -162,7 +176,7 @@ mod tests {
             for l in directions() {
                 let v = Vec3::new(-l.x, -l.y, l.z);
                 let g = Geometry::new(l, v, Vec3::Z, None).unwrap();
-                assert_eq!(mirror_deficit(&g), 0.0, "l = {l}");
+                assert_eq!(deficit(&g), 0.0, "l = {l}");
                 assert_eq!(m.f(&g), Vec3::splat((gamma + 2.0) / (2.0 * PI)), "l = {l}, gamma = {gamma}");
             }
         }
@@ -175,8 +189,8 @@ mod tests {
             for v in directions() {
                 let (l, v) = ((l + 0.3 * n).normalize(), (v - 0.2 * n).normalize());
                 let g = Geometry::new(l, v, n, None).unwrap();
-                let d = mirror_deficit(&g);
-                assert_eq!(d.to_bits(), mirror_deficit(&g.swapped()).to_bits());
+                let d = deficit(&g);
+                assert_eq!(d.to_bits(), deficit(&g.swapped()).to_bits());
                 let rv = (2.0 * f64::from(g.nl) * f64::from(g.nv)) - f64::from(g.l.dot(g.v));
                 assert!((f64::from(d) - (1.0 - rv)).abs() < 1e-6, "d = {d}, 1 − r·v = {}", 1.0 - rv);
             }
@@ -185,10 +199,10 @@ mod tests {
 
     #[test]
     fn the_power_of_a_cosine_at_or_below_zero_is_zero_except_for_exponent_zero() {
-        assert_eq!(pow_one_minus(1.0, 5.0), 0.0);
-        assert_eq!(pow_one_minus(1.5, 5.0), 0.0);
-        assert_eq!(pow_one_minus(1.0, 0.0), 1.0);
-        assert_eq!(pow_one_minus(0.5, 0.0), 1.0);
-        assert!((pow_one_minus(0.5, 3.0) - 0.125).abs() < 1e-7);
+        assert_eq!(pow_one_minus(1.0f32, 5.0), 0.0);
+        assert_eq!(pow_one_minus(1.5f32, 5.0), 0.0);
+        assert_eq!(pow_one_minus(1.0f32, 0.0), 1.0);
+        assert_eq!(pow_one_minus(0.5f32, 0.0), 1.0);
+        assert!((pow_one_minus(0.5f32, 3.0) - 0.125).abs() < 1e-7);
     }
 }

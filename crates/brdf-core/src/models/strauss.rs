@@ -1,8 +1,9 @@
 //! Strauss's lighting model for animators (P. S. Strauss, "A Realistic Lighting Model for Computer
-//! Animators", IEEE CG&A 10(6), 1990; seed 004 "The Strauss Illumination Model" and its fragment
-//! program "Shader Source Code - Strauss").
+//! Animators", IEEE Computer Graphics and Applications 10(6), 56–64, 1990).
 //!
-//! Per colour channel, for a light of unit colour (`c_r = c_i (Q_d + Q_s + Q_a)`):
+//! Per colour channel, for a light of unit colour (`c_r = c_i (Q_d + Q_s + Q_a)`), with `C` the surface
+//! colour (`base_color`: the diffuse colour, and for metals the highlight's colour too, so it is not a
+//! diffuse reflectance `kd`):
 //!
 //! ```text
 //! x_i = θ_i/(π/2), x_r = θ_r/(π/2)                      normalised angles of l and v to n
@@ -14,13 +15,14 @@
 //! F(x) = [1/(x−k_f)² − 1/k_f²] / [1/(1−k_f)² − 1/k_f²]
 //! G(x) = [1/(1−k_s)² − 1/(x−k_s)²] / [1/(1−k_s)² − 1/k_s²]
 //! ```
-//! with Strauss's constants `k_f = 1.12`, `k_s = 1.01`, `k_j = 0.1` (the registry's `ks` is Strauss's
-//! name for the shadow constant; seed 004 calls it `k_g`).
+//! with Strauss's constants `k_f = 1.12`, `k_s = 1.01`, `k_j = 0.1`, registered as `k_fresnel`,
+//! `k_shadow` and `k_offspecular` (Strauss's `k_s` is a shadow constant, not a specular reflectance;
+//! some texts call it `k_g`; `k_j` sets the off-specular rise of the reflectivity toward grazing).
 //!
-//! Slips in seed 004's fragment program, fixed against Strauss 1990 and the seed's own text:
-//! - `f = F((θ_i + θ_r)/2)`: Strauss and the seed's text use `F(θ_i)` (incidence angle) in both `j` and
-//!   `C_s`. Default `fresnel_angle = "incidence"`; `"mean"` reproduces the shader (which makes the
-//!   highlight factor symmetric in l and v; the model is still not reciprocal).
+//! Slips in a widely copied GLSL fragment program of the model, fixed against Strauss 1990:
+//! - `f = F((θ_i + θ_r)/2)`: Strauss uses `F(θ_i)` (incidence angle) in both `j` and `C_s`. Default
+//!   `fresnel_angle = "incidence"`; `"mean"` reproduces the shader (which makes the highlight factor
+//!   symmetric in l and v; the model is still not reciprocal).
 //! - `pow(-dot(H, V), …)` with `V` pointing *to* the eye: the sign is Strauss's convention of both
 //!   vectors pointing *toward* the surface; in ours the specular base is `r·v` with
 //!   `r = 2(n·l)n − l`, clamped at 0 (a negative base to a real power is NaN in GLSL).
@@ -40,10 +42,11 @@ use std::f32::consts::FRAC_2_PI;
 
 use glam::Vec3;
 
+use crate::BrdfError;
 use crate::models::phong::{mirror_deficit, pow_one_minus};
-use crate::models::{Bxdf, ModelKind, classic_f};
+use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
-use crate::{BrdfError, Geometry};
+use crate::simd::{Lane, LaneGeometry, V3};
 
 /// Largest smoothness used in the exponent `3/(1 − s)` (see the module docs).
 pub const SMOOTHNESS_MAX: f32 = 0.9999;
@@ -51,17 +54,17 @@ pub const SMOOTHNESS_MAX: f32 = 0.9999;
 /// Which angle Strauss's Fresnel-like factor reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StraussFresnelAngle {
-    /// `F(x_i)`, Strauss 1990 and seed 004's text.
+    /// `F(x_i)`, Strauss 1990.
     Incidence,
-    /// `F((x_i + x_r)/2)`, seed 004's fragment program.
+    /// `F((x_i + x_r)/2)`, a common GLSL shader's form.
     Mean,
 }
 
-/// Strauss's model (see the module docs for the formula and the fixes to seed 004's shader).
+/// Strauss's model (see the module docs for the formula and the fixes to a common shader).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Strauss {
-    /// Surface colour C (linear RGB).
-    pub color: Vec3,
+    /// Surface colour C (linear RGB): diffuse colour, and highlight colour for metals.
+    pub base_color: Vec3,
     /// Smoothness s ∈ [0, 1].
     pub smoothness: f32,
     /// Metalness m ∈ [0, 1].
@@ -69,11 +72,11 @@ pub struct Strauss {
     /// Transparency t ∈ [0, 1].
     pub transparency: f32,
     /// Fresnel constant k_f (> 1).
-    pub kf: f32,
-    /// Shadow constant k_s (> 1; seed 004's k_g).
-    pub ks: f32,
-    /// Reflectivity offset k_j.
-    pub kj: f32,
+    pub k_fresnel: f32,
+    /// Shadow constant k_s (> 1).
+    pub k_shadow: f32,
+    /// Off-specular reflectivity offset k_j.
+    pub k_offspecular: f32,
     /// Angle F reads.
     pub fresnel_angle: StraussFresnelAngle,
     rd: f32,
@@ -86,9 +89,9 @@ pub struct Strauss {
 
 impl Strauss {
     /// Strauss's model with Strauss's constants `k_f = 1.12`, `k_s = 1.01`, `k_j = 0.1`.
-    pub fn new(color: Vec3, smoothness: f32, metalness: f32, transparency: f32) -> Self {
+    pub fn new(base_color: Vec3, smoothness: f32, metalness: f32, transparency: f32) -> Self {
         Self::with_constants(
-            color,
+            base_color,
             smoothness,
             metalness,
             transparency,
@@ -99,33 +102,33 @@ impl Strauss {
         )
     }
 
-    /// Full constructor. `kf`, `ks` must exceed 1 (their poles must lie outside x ∈ [0, 1]); they are
-    /// raised to 1.0001 if not.
+    /// Full constructor. `k_fresnel`, `k_shadow` must exceed 1 (their poles must lie outside
+    /// x ∈ [0, 1]); they are raised to 1.0001 if not.
     #[allow(clippy::too_many_arguments)]
     pub fn with_constants(
-        color: Vec3,
+        base_color: Vec3,
         smoothness: f32,
         metalness: f32,
         transparency: f32,
-        kf: f32,
-        ks: f32,
-        kj: f32,
+        k_fresnel: f32,
+        k_shadow: f32,
+        k_offspecular: f32,
         fresnel_angle: StraussFresnelAngle,
     ) -> Self {
         let s = smoothness.clamp(0.0, 1.0);
         let t = transparency.clamp(0.0, 1.0);
         let m = metalness.clamp(0.0, 1.0);
-        let kf = kf.max(1.0001);
-        let ks = ks.max(1.0001);
+        let kf = k_fresnel.max(1.0001);
+        let ks = k_shadow.max(1.0001);
         let rd = (1.0 - s * s * s) * (1.0 - t);
         Self {
-            color,
+            base_color,
             smoothness: s,
             metalness: m,
             transparency: t,
-            kf,
-            ks,
-            kj,
+            k_fresnel: kf,
+            k_shadow: ks,
+            k_offspecular,
             fresnel_angle,
             rd,
             rn: (1.0 - t) - rd,
@@ -137,52 +140,90 @@ impl Strauss {
     }
 
     /// Strauss's Fresnel-like factor `F(x)`, x = normalised angle ∈ [0, 1]: 0 at x = 0, 1 at x = 1.
-    #[inline]
-    pub fn fresnel(&self, x: f32) -> f32 {
-        (1.0 / ((x - self.kf) * (x - self.kf)) - 1.0 / (self.kf * self.kf)) / self.f_den
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn fresnel<F: Lane>(&self, x: F) -> F {
+        let kf = self.k_fresnel;
+        let d = x - F::splat(kf);
+        (F::splat(1.0) / (d * d) - F::splat(1.0 / (kf * kf))) / F::splat(self.f_den)
     }
 
     /// Strauss's shadow factor `G(x)`: 1 at x = 0, 0 at x = 1.
-    #[inline]
-    pub fn shadow(&self, x: f32) -> f32 {
-        (1.0 / ((1.0 - self.ks) * (1.0 - self.ks)) - 1.0 / ((x - self.ks) * (x - self.ks))) / self.g_den
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn shadow<F: Lane>(&self, x: F) -> F {
+        let ks = self.k_shadow;
+        let d = x - F::splat(ks);
+        (F::splat(1.0 / ((1.0 - ks) * (1.0 - ks))) - F::splat(1.0) / (d * d)) / F::splat(self.g_den)
     }
 
     /// Ambient reflectance `Q_a = r_d C` (multiply by the ambient light colour).
     pub fn ambient(&self) -> Vec3 {
-        self.rd * self.color
+        self.rd * self.base_color
     }
 
-    /// Opacity `1 − t` (seed 004's shader writes it to alpha).
+    /// Opacity `1 − t` (a shader writes it to alpha).
     pub fn opacity(&self) -> f32 {
         1.0 - self.transparency
     }
+}
+
+/// `|n × w|` = sin of the angle between unit `n` and `w`.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn sin_to<F: Lane>(n: V3<F>, w: V3<F>) -> F {
+    let c = n.cross(w);
+    c.dot(c).sqrt()
 }
 
 impl Bxdf for Strauss {
     const SPEC: ModelSpec = ModelSpec {
         name: "strauss",
         summary: "Strauss 1990: Qd = (n.l) d rd C, Qs = max(r.v,0)^(3/(1-s)) rj Cs; normalised smoothness/metalness/transparency",
-        source: "seed 004 (text and fragment program, slips fixed); P. S. Strauss, IEEE CG&A 1990",
+        source: "P. S. Strauss, A Realistic Lighting Model for Computer Animators, IEEE Computer Graphics and Applications 10(6) (1990)",
         physical: false,
         anisotropic: false,
         params: &[
-            ParamSpec::color("color", [0.8, 0.3, 0.2], 0.0, 1.0, "reflectance", "surface colour C"),
+            ParamSpec::color(
+                "base_color",
+                [0.8, 0.3, 0.2],
+                0.0,
+                1.0,
+                "reflectance",
+                "surface colour C: the diffuse colour, and the highlight colour of metals",
+            ),
             ParamSpec::scalar("smoothness", 0.5, 0.0, 1.0, "1", "s: 0 dull .. 1 mirror"),
             ParamSpec::scalar("metalness", 0.0, 0.0, 1.0, "1", "m: 0 dielectric .. 1 metal"),
             ParamSpec::scalar("transparency", 0.0, 0.0, 1.0, "1", "t: 0 opaque .. 1 transparent"),
-            ParamSpec::scalar("kf", 1.12, 1.001, 10.0, "1", "Fresnel constant k_f"),
-            ParamSpec::scalar("ks", 1.01, 1.001, 10.0, "1", "shadow constant k_s (seed 004's k_g)"),
-            ParamSpec::scalar("kj", 0.1, 0.0, 1.0, "1", "reflectivity offset k_j"),
+            ParamSpec::scalar("k_fresnel", 1.12, 1.001, 10.0, "1", "Strauss's Fresnel constant k_f"),
+            ParamSpec::scalar("k_shadow", 1.01, 1.001, 10.0, "1", "Strauss's shadow constant k_s"),
+            ParamSpec::scalar(
+                "k_offspecular",
+                0.1,
+                0.0,
+                1.0,
+                "1",
+                "Strauss's k_j: how much the reflectivity rises toward grazing (off-specular peak)",
+            ),
             ParamSpec::choice(
                 "fresnel_angle",
                 &["incidence", "mean"],
                 "incidence",
-                "F reads theta_i (Strauss 1990) or (theta_i+theta_r)/2 (seed 004's shader)",
+                "F reads theta_i (Strauss 1990) or (theta_i+theta_r)/2 (a common GLSL shader's form)",
             ),
         ],
     };
     const KIND: ModelKind = ModelKind::Classic;
+
+    /// Cosine-weighted for `Q_d`, Phong's lobe `(r·v)^{3/(1−s)}` for `Q_s` (whose `shade` is exactly
+    /// that lobe times `r_j C_s`), weighted by `mean(d r_d C)` and `(r_n + k_j)·2π/(h+1)`.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique, mean};
+        let spec = (self.rn + self.k_offspecular) * 2.0 * std::f32::consts::PI / (self.exponent + 1.0);
+        Ok(Sampler::new()
+            .with(Technique::Cosine, mean(self.d * self.rd * self.base_color))
+            .with(Technique::phong(self.exponent), spec))
+    }
 
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         let angle = match p.choice("fresnel_angle") {
@@ -190,44 +231,41 @@ impl Bxdf for Strauss {
             _ => StraussFresnelAngle::Incidence,
         };
         Ok(Self::with_constants(
-            p.color("color"),
+            p.color("base_color"),
             p.scalar("smoothness"),
             p.scalar("metalness"),
             p.scalar("transparency"),
-            p.scalar("kf"),
-            p.scalar("ks"),
-            p.scalar("kj"),
+            p.scalar("k_fresnel"),
+            p.scalar("k_shadow"),
+            p.scalar("k_offspecular"),
             angle,
         ))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
-        classic_f(self.shade(g), g)
-    }
-
-    fn shade(&self, g: &Geometry) -> Vec3 {
-        if !(g.nl > 0.0 && g.nv > 0.0) {
-            return Vec3::ZERO;
-        }
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        let (zero, one) = (F::splat(0.0), F::splat(1.0));
         // θ = atan2(|n×w|, n·w), not acos(n·w): near the normal a float32 cosine ≈ 1 is known only to a
         // few 2^-24, which acos turns into ~2^-24/sin θ of angle (1e-4 rad at θ = 5e-4; r_j came out
         // 180× further from the float64 oracle than input rounding explains); |n×w| keeps sin θ to a
         // few 2^-24 relative. tests/test_phong_precision.py.
-        let xi = g.n.cross(g.l).length().atan2(g.nl) * FRAC_2_PI;
-        let xr = g.n.cross(g.v).length().atan2(g.nv) * FRAC_2_PI;
+        let xi = sin_to(g.n, g.l).atan2(g.nl) * F::splat(FRAC_2_PI);
+        let xr = sin_to(g.n, g.v).atan2(g.nv) * F::splat(FRAC_2_PI);
         let f = self.fresnel(match self.fresnel_angle {
             StraussFresnelAngle::Incidence => xi,
-            StraussFresnelAngle::Mean => 0.5 * (xi + xr),
+            StraussFresnelAngle::Mean => F::splat(0.5) * (xi + xr),
         });
         let j = f * self.shadow(xi) * self.shadow(xr);
-        let rj = (self.rn + (self.rn + self.kj) * j).min(1.0);
+        let rn = F::splat(self.rn);
+        let rj = (rn + (rn + F::splat(self.k_offspecular)) * j).min(one);
         // max(r·v, 0)^h from the deficit d = 1 − r·v: `r·v` itself near 1 is rounded to float32, which
         // the exponent (up to 30000) amplifies to h·2^-24 relative and more (phong::mirror_deficit).
         let d = mirror_deficit(g);
-        let rs = if d < 1.0 { pow_one_minus(d, self.exponent) * rj } else { 0.0 };
-        let cs = Vec3::ONE + self.metalness * (1.0 - f) * (self.color - Vec3::ONE);
-        let qd = g.nl * self.d * self.rd * self.color;
-        qd + rs * cs
+        let rs = F::select(d.lt(one), pow_one_minus(d, self.exponent) * rj, zero);
+        let cs = V3::splat(Vec3::ONE)
+            + V3::splat(self.base_color - Vec3::ONE).scale(F::splat(self.metalness) * (one - f));
+        let qd = V3::splat(self.base_color).scale(g.nl * F::splat(self.d) * F::splat(self.rd));
+        V3::select(g.both_above(), qd + cs.scale(rs), V3::splat(Vec3::ZERO))
     }
 }

@@ -1,51 +1,54 @@
-//! Toon (cel) shading of seed 000: a three-band diffuse term and a two-level specular term.
+//! Toon (cel) shading: a three-band diffuse term and a two-level specular term, the hard-shading
+//! idea of A. Lake, C. Marshall, M. Harris, M. Blackstein, "Stylized Rendering Techniques for Scalable
+//! Real-Time 3D Animation", NPAR 2000, with the bands and the highlight as explicit thresholds.
 
 use glam::Vec3;
 
+use crate::BrdfError;
 use crate::microfacet::HalfVector;
 use crate::models::phong::mirror_deficit;
-use crate::models::{Bxdf, ModelKind, classic_f};
+use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
-use crate::{BrdfError, Geometry};
+use crate::simd::{Lane, LaneGeometry, V3};
 
 /// What the toon specular thresholds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ToonSpecularMode {
-    /// `v·r` with `r = 2(n·l)n − l` (seed 000's `Toon_Specular_BRDF`).
+    /// `v·r` with `r = 2(n·l)n − l` (a Phong highlight).
     Phong,
-    /// `n·h` with `h = normalize(l + v)` (seed 000: "a Phong or Blinn BRDF with γ = 1").
+    /// `n·h` with `h = normalize(l + v)` (a Blinn highlight).
     Blinn,
 }
 
-/// Toon shading, a classic model whose `shade` is seed 000's two GLSL functions added:
+/// Toon shading, a classic model whose `shade` is a banded diffuse term plus a thresholded highlight:
 ///
 /// ```text
-/// diffuse  = dark_scale · diffuse_color   if n·l < dark_threshold      (Toon_Diffuse_BRDF: thr2 = 0.07,
-///          = diffuse_mid_color            if n·l < diffuse_threshold    Cd1 = 0.002 · C)
-///          = diffuse_color                otherwise
-/// specular = specular_color               if x ≥ specular_threshold, else 0
-///            x = v·r (specular_mode = "phong", Toon_Specular_BRDF) or n·h ("blinn")
+/// diffuse  = dark_scale · kd   if n·l < dark_threshold
+///          = kd_mid            if n·l < diffuse_threshold
+///          = kd                otherwise
+/// specular = ks                if x ≥ specular_threshold, else 0
+///            x = v·r (specular_mode = "phong") or n·h ("blinn")
 /// ```
 ///
-/// Bands are half-open as in the GLSL (`<` selects the lower band), so a value exactly on a threshold
+/// Bands are half-open (`<` selects the lower band), so a value exactly on a threshold
 /// takes the upper band. The diffuse bands apply for any `n·l`, including light from behind (which gets
 /// the dark band), exactly as written. The specular term is zeroed for `n·l ≤ 0` when `specular_gate`
 /// is true (default), for the reason given at [`crate::models::PhongClassic`]; `specular_gate = false`
-/// is seed 000's GLSL literally. With `l = −v` there is no half vector and the Blinn specular is 0.
+/// does not gate. With `l = −v` there is no half vector and the Blinn specular is 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Toon {
-    /// Lit colour `C` (band `n·l ≥ diffuse_threshold`).
-    pub diffuse_color: Vec3,
-    /// Mid-band colour `Cd` (`dark_threshold ≤ n·l < diffuse_threshold`).
-    pub diffuse_mid_color: Vec3,
-    /// Lower edge of the lit band (`thr` in seed 000).
+    /// Diffuse reflectance `kd` of the lit band (`n·l ≥ diffuse_threshold`).
+    pub kd: Vec3,
+    /// Mid-band colour (`dark_threshold ≤ n·l < diffuse_threshold`).
+    pub kd_mid: Vec3,
+    /// Lower edge of the lit band.
     pub diffuse_threshold: f32,
-    /// Lower edge of the mid band (`thr2 = 0.07` in seed 000).
+    /// Lower edge of the mid band.
     pub dark_threshold: f32,
-    /// Dark band = `dark_scale · diffuse_color` (`0.002` in seed 000).
+    /// Dark band = `dark_scale · kd`.
     pub dark_scale: f32,
-    /// Highlight colour `Ms0`.
-    pub specular_color: Vec3,
+    /// Highlight colour `ks`.
+    pub ks: Vec3,
     /// Highlight threshold `t_S` on `v·r` or `n·h`.
     pub specular_threshold: f32,
     /// Which cosine is thresholded.
@@ -55,24 +58,20 @@ pub struct Toon {
 }
 
 impl Toon {
-    /// The diffuse band colour for a given `n·l` (seed 000's `Toon_Diffuse_BRDF`).
-    #[inline]
-    pub fn diffuse_band(&self, nl: f32) -> Vec3 {
-        if nl < self.dark_threshold {
-            self.dark_scale * self.diffuse_color
-        } else if nl < self.diffuse_threshold {
-            self.diffuse_mid_color
-        } else {
-            self.diffuse_color
-        }
+    /// The diffuse band colour for a given `n·l`.
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn diffuse_band<F: Lane>(&self, nl: F) -> V3<F> {
+        let mid_or_lit =
+            V3::select(nl.lt(F::splat(self.diffuse_threshold)), V3::splat(self.kd_mid), V3::splat(self.kd));
+        V3::select(nl.lt(F::splat(self.dark_threshold)), V3::splat(self.dark_scale * self.kd), mid_or_lit)
     }
 
-    /// The specular level for the geometry (seed 000's `Toon_Specular_BRDF`, or its Blinn form).
-    #[inline]
-    pub fn specular_level(&self, g: &Geometry) -> Vec3 {
-        if self.specular_gate && g.nl <= 0.0 {
-            return Vec3::ZERO;
-        }
+    /// The specular level for the geometry (Phong or Blinn highlight).
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn specular_level<F: Lane>(&self, g: &LaneGeometry<F>) -> V3<F> {
+        let edge = F::splat(1.0 - self.specular_threshold);
         let lit = match self.specular_mode {
             // v·r ≥ t as d ≤ 1 − t with the mirror deficit d = 1 − v·r (phong::mirror_deficit), not
             // `2(n·l)(n·v) − l·v ≥ t`: that rounds v·r ≈ 1 to a few 2^-24 absolute, which moved the
@@ -80,27 +79,26 @@ impl Toon {
             // emulation, where rounding the float32 inputs moves it by 1.2e-7 (the deficit: 1.3e-6 at
             // t = 0.9999, most of it t's own float32 rounding; 1.7e-7 at t = 0.9). 1 − t is exact in
             // float32 for t ≥ 0.5.
-            ToonSpecularMode::Phong => mirror_deficit(g) <= 1.0 - self.specular_threshold,
+            ToonSpecularMode::Phong => mirror_deficit(g).le(edge),
             // n·h ≥ t as 1 − n·h ≤ 1 − t with 1 − n·h = |h̃⊥|²/(|h̃|(|h̃| + n·h̃)) from the un-normalised
             // h̃ = l + v (microfacet::HalfVector), not `n·normalize(l + v) ≥ t`: that rounds n·h ≈ 1 to
             // a few 2^-24 absolute, which moved the highlight's edge by up to 1.2e-5 rad at t = 0.9999
             // (2.7e-7 at t = 0.9, 1.3e-4 at t = 0.999999) in a float32 emulation; this form moves it
             // by 5.7e-8 (4.5e-8, 1.1e-7), what rounding the float32 inputs alone does (5.7e-8, 3.9e-8,
-            // 1.1e-7). l = −v has no half vector (h̃ = 0): unlit, as before.
+            // 1.1e-7). l = −v has no half vector (h̃ = 0): unlit.
             ToonSpecularMode::Blinn => {
-                let h = HalfVector::<f32>::from_directions(g.l.into(), g.v.into(), g.n.into());
-                if h.len2 <= 1e-20 {
-                    return Vec3::ZERO;
-                }
+                let h = HalfVector::from_directions(g.l, g.v, g.n);
                 let len = h.len2.sqrt();
                 // 1 − cos θ_h = sin²θ_h/(1 + cos θ_h) cancels nothing where h is above the surface;
                 // below it (a threshold < 0) 1 − n·h ≥ 1 has nothing to lose either.
-                let deficit =
-                    if h.n_dot > 0.0 { h.perp2 / (len * (len + h.n_dot)) } else { 1.0 - h.n_dot / len };
-                deficit <= 1.0 - self.specular_threshold
+                let above = h.perp2 / (len * (len + h.n_dot));
+                let below = F::splat(1.0) - h.n_dot / len;
+                let deficit = F::select(h.n_dot.gt(F::splat(0.0)), above, below);
+                h.len2.gt(F::splat(1e-20)) & deficit.le(edge)
             }
         };
-        if lit { self.specular_color } else { Vec3::ZERO }
+        let gated = F::mask_splat(self.specular_gate) & g.nl.le(F::splat(0.0));
+        V3::select(lit & !gated, V3::splat(self.ks), V3::splat(Vec3::ZERO))
     }
 }
 
@@ -108,18 +106,25 @@ impl Bxdf for Toon {
     const SPEC: ModelSpec = ModelSpec {
         name: "toon",
         summary: "toon shading: 3-band diffuse on n.l (dark / mid / lit) + thresholded specular on v.r or n.h",
-        source: "seed 000 (Toon diffuse and Toon specular, GLSL)",
+        source: "cel shading after A. Lake, C. Marshall, M. Harris, M. Blackstein, Stylized Rendering Techniques for Scalable Real-Time 3D Animation, NPAR (2000), with explicit band and highlight thresholds",
         physical: false,
         anisotropic: false,
         params: &[
-            ParamSpec::color("diffuse_color", [0.8, 0.3, 0.2], 0.0, 1.0, "reflectance", "lit-band colour C"),
             ParamSpec::color(
-                "diffuse_mid_color",
+                "kd",
+                [0.8, 0.3, 0.2],
+                0.0,
+                1.0,
+                "reflectance",
+                "diffuse colour of the lit band",
+            ),
+            ParamSpec::color(
+                "kd_mid",
                 [0.4, 0.15, 0.1],
                 0.0,
                 1.0,
                 "reflectance",
-                "mid-band colour Cd (default: half the default diffuse_color; set both together)",
+                "diffuse colour of the mid band (default: half the default kd; set both together)",
             ),
             ParamSpec::scalar(
                 "diffuse_threshold",
@@ -127,7 +132,7 @@ impl Bxdf for Toon {
                 -1.0,
                 1.0,
                 "cosine",
-                "n.l at and above which the lit colour is used (thr)",
+                "n.l at and above which the lit colour kd is used",
             ),
             ParamSpec::scalar(
                 "dark_threshold",
@@ -135,17 +140,10 @@ impl Bxdf for Toon {
                 -1.0,
                 1.0,
                 "cosine",
-                "n.l below which the dark band is used (thr2 = 0.07 in seed 000)",
+                "n.l below which the dark band is used",
             ),
-            ParamSpec::scalar(
-                "dark_scale",
-                0.002,
-                0.0,
-                1.0,
-                "1",
-                "dark band = dark_scale * diffuse_color (0.002 in seed 000)",
-            ),
-            ParamSpec::color("specular_color", [1.0, 1.0, 1.0], 0.0, 1.0, "reflectance", "highlight colour"),
+            ParamSpec::scalar("dark_scale", 0.002, 0.0, 1.0, "1", "dark band = dark_scale * kd"),
+            ParamSpec::color("ks", [1.0, 1.0, 1.0], 0.0, 1.0, "reflectance", "highlight colour"),
             ParamSpec::scalar(
                 "specular_threshold",
                 0.9,
@@ -163,20 +161,28 @@ impl Bxdf for Toon {
             ParamSpec::flag(
                 "specular_gate",
                 true,
-                "no highlight when n.l <= 0 (false: seed 000's GLSL, which does not gate)",
+                "no highlight when n.l <= 0 (false: ungated, as many GLSL shaders write it)",
             ),
         ],
     };
     const KIND: ModelKind = ModelKind::Classic;
 
+    /// Uniform over the hemisphere ([`crate::sampling::cosine::sample_uniform`]): each band's `shade`
+    /// is a constant, so `shade/p = 2π·shade` is bounded (cosine weighting would give `π·shade/cos θ`,
+    /// of infinite variance); the bands themselves, step functions of `n·l` and `v·r`, are not matched.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique};
+        Ok(Sampler::new().with(Technique::UniformHemisphere, 1.0))
+    }
+
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         Ok(Self {
-            diffuse_color: p.color("diffuse_color"),
-            diffuse_mid_color: p.color("diffuse_mid_color"),
+            kd: p.color("kd"),
+            kd_mid: p.color("kd_mid"),
             diffuse_threshold: p.scalar("diffuse_threshold"),
             dark_threshold: p.scalar("dark_threshold"),
             dark_scale: p.scalar("dark_scale"),
-            specular_color: p.color("specular_color"),
+            ks: p.color("ks"),
             specular_threshold: p.scalar("specular_threshold"),
             specular_mode: match p.choice("specular_mode") {
                 "blinn" => ToonSpecularMode::Blinn,
@@ -186,13 +192,9 @@ impl Bxdf for Toon {
         })
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
-        classic_f(self.shade(g), g)
-    }
-
-    #[inline]
-    fn shade(&self, g: &Geometry) -> Vec3 {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
         self.diffuse_band(g.nl) + self.specular_level(g)
     }
 }
@@ -200,18 +202,23 @@ impl Bxdf for Toon {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Geometry;
 
     use glam::DVec3;
+
+    fn level(toon: &Toon, g: &Geometry) -> Vec3 {
+        toon.specular_level(&LaneGeometry::from(g)).into()
+    }
 
     /// Specular only: black diffuse bands, white highlight.
     fn specular_only(specular_mode: ToonSpecularMode, specular_threshold: f32) -> Toon {
         Toon {
-            diffuse_color: Vec3::ZERO,
-            diffuse_mid_color: Vec3::ZERO,
+            kd: Vec3::ZERO,
+            kd_mid: Vec3::ZERO,
             diffuse_threshold: 0.5,
             dark_threshold: 0.07,
             dark_scale: 0.0,
-            specular_color: Vec3::ONE,
+            ks: Vec3::ONE,
             specular_threshold,
             specular_mode,
             specular_gate: true,
@@ -227,10 +234,10 @@ mod tests {
             for phi in [0.1_f32, 1.0, 2.5, 4.0] {
                 let l = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
                 let g = Geometry::new(l, Vec3::new(-l.x, -l.y, l.z), Vec3::Z, None).unwrap();
-                assert_eq!(toon.specular_level(&g), Vec3::ONE, "theta = {theta}, phi = {phi}");
+                assert_eq!(level(&toon, &g), Vec3::ONE, "theta = {theta}, phi = {phi}");
                 let off = Vec3::new(-l.x, -l.y, l.z + 1e-3).normalize();
                 let g = Geometry::new(l, off, Vec3::Z, None).unwrap();
-                assert_eq!(toon.specular_level(&g), Vec3::ZERO, "theta = {theta}, phi = {phi}");
+                assert_eq!(level(&toon, &g), Vec3::ZERO, "theta = {theta}, phi = {phi}");
             }
         }
     }
@@ -278,7 +285,7 @@ mod tests {
                 continue;
             }
             let want = if inside { Vec3::ONE } else { Vec3::ZERO };
-            assert_eq!(toon.specular_level(&g), want, "theta_h = edge {:+e}, i = {i}", theta_h - edge);
+            assert_eq!(level(&toon, &g), want, "theta_h = edge {:+e}, i = {i}", theta_h - edge);
         }
     }
 }

@@ -1,5 +1,5 @@
 //! Ward's anisotropic BRDF (G. J. Ward, "Measuring and Modeling Anisotropic Reflection", SIGGRAPH
-//! 1992; B. Walter, "Notes on the Ward BRDF", Cornell PCG-05-06, 2005; seeds 001, 002, 004):
+//! 1992; B. Walter, "Notes on the Ward BRDF", Cornell PCG-05-06, 2005), with `ρd` = `kd`, `ρs` = `ks`:
 //!
 //! ```text
 //! f = ρd/π + ρs · exp(−tan²δ (cos²φ_h/αx² + sin²φ_h/αy²)) / (4π αx αy √(cosθ_i cosθ_o))
@@ -17,12 +17,14 @@
 //! Dür 2010); for the defaults the albedo stays below ρd + ρs up to θ_v ≈ 70° (tests).
 //! Isotropic parameters (αx = αy) skip the frame: the exponent then depends on n·h only.
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
+use crate::BrdfError;
+use crate::frame::LaneFrame;
 use crate::microfacet::{ALPHA_MIN, ward as ward_d};
 use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
-use crate::{BrdfError, Geometry};
+use crate::simd::{Lane, LaneGeometry, V3};
 
 /// How the Ward exponent is evaluated (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,9 +39,9 @@ pub enum WardNormalization {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ward {
     /// Diffuse reflectance ρd.
-    pub rho_d: Vec3,
+    pub kd: Vec3,
     /// Specular reflectance ρs.
-    pub rho_s: Vec3,
+    pub ks: Vec3,
     /// RMS slope along the tangent (≥ 1e−4).
     pub alpha_x: f32,
     /// RMS slope along the bitangent (≥ 1e−4).
@@ -50,37 +52,32 @@ pub struct Ward {
 
 impl Ward {
     /// Ward BRDF; α's are floored at [`ALPHA_MIN`] (below it the lobe is narrower than f32 resolves).
-    pub fn new(
-        rho_d: Vec3,
-        rho_s: Vec3,
-        alpha_x: f32,
-        alpha_y: f32,
-        normalization: WardNormalization,
-    ) -> Self {
-        Self { rho_d, rho_s, alpha_x: alpha_x.max(ALPHA_MIN), alpha_y: alpha_y.max(ALPHA_MIN), normalization }
+    pub fn new(kd: Vec3, ks: Vec3, alpha_x: f32, alpha_y: f32, normalization: WardNormalization) -> Self {
+        Self { kd, ks, alpha_x: alpha_x.max(ALPHA_MIN), alpha_y: alpha_y.max(ALPHA_MIN), normalization }
     }
 
     /// The specular factor `exp(…)/(4π αx αy √(cosθ_i cosθ_o))` [1/sr] for a unit local half vector.
-    #[inline]
-    pub fn specular_local(&self, h: Vec3A, nl: f32, nv: f32) -> f32 {
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub fn specular_local<F: Lane>(&self, h: V3<F>, nl: F, nv: F) -> F {
         let p = match self.normalization {
-            WardNormalization::Walter => ward_d::slope_pdf(h, self.alpha_x, self.alpha_y),
-            WardNormalization::Ward => ward_d::slope_pdf_ward1992(h, self.alpha_x, self.alpha_y),
+            WardNormalization::Walter => ward_d::slope_pdf_lanes(h, self.alpha_x, self.alpha_y),
+            WardNormalization::Ward => ward_d::slope_pdf_ward1992_lanes(h, self.alpha_x, self.alpha_y),
         };
-        0.25 * p / (nl * nv).sqrt()
+        F::splat(0.25) * p / (nl * nv).sqrt()
     }
 }
 
 impl Bxdf for Ward {
     const SPEC: ModelSpec = ModelSpec {
         name: "ward",
-        summary: "Ward anisotropic, f = rho_d/pi + rho_s exp(-tan^2(d)(cos^2(phi)/ax^2 + sin^2(phi)/ay^2))/(4 pi ax ay sqrt(cos_i cos_o))",
-        source: "seeds 001, 002, 004; Ward 1992; Walter 2005",
+        summary: "Ward anisotropic, f = kd/pi + ks exp(-tan^2(d)(cos^2(phi)/ax^2 + sin^2(phi)/ay^2))/(4 pi ax ay sqrt(cos_i cos_o))",
+        source: "G. J. Ward, Measuring and Modeling Anisotropic Reflection, SIGGRAPH (1992), eq. 5a; normalisation: B. Walter, Notes on the Ward BRDF, Cornell PCG-05-06 (2005)",
         physical: true,
         anisotropic: true,
         params: &[
-            ParamSpec::color("rho_d", [0.1; 3], 0.0, 1.0, "reflectance", "diffuse reflectance"),
-            ParamSpec::color("rho_s", [0.2; 3], 0.0, 1.0, "reflectance", "specular reflectance"),
+            ParamSpec::color("kd", [0.3; 3], 0.0, 1.0, "reflectance", "diffuse reflectance rho_d"),
+            ParamSpec::color("ks", [0.5; 3], 0.0, 1.0, "reflectance", "specular reflectance rho_s"),
             ParamSpec::scalar(
                 "alpha_x",
                 0.15,
@@ -107,31 +104,40 @@ impl Bxdf for Ward {
     };
     const KIND: ModelKind = ModelKind::Physical;
 
+    /// Cosine-weighted for `ρd`, Ward's Gaussian half vectors (Ward 1992; Walter 2005;
+    /// [`crate::sampling::ward`]) for `ρs`, chosen in proportion to `ρd : ρs`.
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique, mean};
+        Ok(Sampler::new()
+            .with(Technique::Cosine, mean(self.kd))
+            .with(Technique::WardHalfVector { alpha_x: self.alpha_x, alpha_y: self.alpha_y }, mean(self.ks)))
+    }
+
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         let normalization = match p.choice("normalization") {
             "ward" => WardNormalization::Ward,
             _ => WardNormalization::Walter,
         };
-        Ok(Self::new(
-            p.color("rho_d"),
-            p.color("rho_s"),
-            p.scalar("alpha_x"),
-            p.scalar("alpha_y"),
-            normalization,
-        ))
+        Ok(Self::new(p.color("kd"), p.color("ks"), p.scalar("alpha_x"), p.scalar("alpha_y"), normalization))
     }
 
-    #[inline]
-    fn f(&self, g: &Geometry) -> Vec3 {
-        let diffuse = self.rho_d * std::f32::consts::FRAC_1_PI;
-        let Some(h) = g.h() else { return diffuse };
+    #[cfg_attr(debug_assertions, inline)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn formula<F: Lane>(&self, g: &LaneGeometry<F>, _active: F::Mask) -> V3<F> {
+        let diffuse = V3::splat(self.kd * std::f32::consts::FRAC_1_PI);
+        // h as `vector::halfway`: none where |l + v|² ≤ 1e−20 (diffuse only).
+        let s = g.l + g.v;
+        let len2 = s.dot(s);
+        let h = s / len2.sqrt();
         let h_local = if self.alpha_x == self.alpha_y {
             // Isotropic: only θ_h matters; put h in the x–z plane instead of building a frame.
-            let nh = g.n.dot(h).min(1.0);
-            Vec3A::new((1.0 - nh * nh).max(0.0).sqrt(), 0.0, nh)
+            let nh = g.n.dot(h).min(F::splat(1.0));
+            let zero = F::splat(0.0);
+            V3 { x: (F::splat(1.0) - nh * nh).max(zero).sqrt(), y: zero, z: nh }
         } else {
-            g.frame().to_local(h)
+            LaneFrame::of(g).to_local(h)
         };
-        diffuse + self.rho_s * self.specular_local(h_local, g.nl, g.nv)
+        let specular = diffuse + V3::splat(self.ks).scale(self.specular_local(h_local, g.nl, g.nv));
+        V3::select(len2.gt(F::splat(1e-20)), specular, diffuse)
     }
 }

@@ -14,21 +14,28 @@
 //! intrinsic below executes on a CPU that has AVX. Values are built and read through `bytemuck`
 //! casts of `[f32; 8]` (plain data, no instruction-set requirement). The operations are the
 //! correctly rounded IEEE ones (`+ − × ÷ √`), ordered non-signalling comparisons and bitwise
-//! blends, so results equal the scalar path bit for bit (see [`crate::simd`]).
+//! blends, so results equal the scalar path bit for bit (see [`crate::simd`]). The same holds for
+//! [`Avx64`], the float64 halves of [`Avx8`] (`Lane::Wide`), and for the AVX2 integer instructions
+//! of the bit-level primitives (`pow2i`, `frexp`, `has_bits`): they are reached only through values
+//! of these private types, and their integer results are exact. Conversions between `f32` and
+//! `f64` round to nearest-even, Rust's `as` (the default MXCSR mode, which Rust code never changes).
 
 #![allow(unsafe_code)]
 
 use std::arch::x86_64::{
-    __m128, __m256, _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ, _mm256_add_ps, _mm256_and_ps,
-    _mm256_andnot_ps, _mm256_blendv_ps, _mm256_castps256_ps128, _mm256_cmp_ps, _mm256_div_ps,
-    _mm256_extractf128_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set_m128,
-    _mm256_shuffle_ps, _mm256_sqrt_ps, _mm256_sub_ps, _mm256_xor_ps,
+    __m128, __m256, __m256d, __m256i, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
+    _CMP_NEQ_UQ, _mm256_add_epi32, _mm256_add_pd, _mm256_add_ps, _mm256_and_ps, _mm256_and_si256,
+    _mm256_andnot_ps, _mm256_blendv_ps, _mm256_castps_si256, _mm256_castps256_ps128, _mm256_castsi256_ps,
+    _mm256_cmp_ps, _mm256_cmpeq_epi32, _mm256_cvtepi32_ps, _mm256_cvtpd_ps, _mm256_cvtps_epi32,
+    _mm256_cvtps_pd, _mm256_div_pd, _mm256_div_ps, _mm256_extractf128_ps, _mm256_movemask_ps, _mm256_mul_pd,
+    _mm256_mul_ps, _mm256_or_ps, _mm256_or_si256, _mm256_set_m128, _mm256_set1_epi32, _mm256_shuffle_ps,
+    _mm256_slli_epi32, _mm256_sqrt_ps, _mm256_srli_epi32, _mm256_sub_pd, _mm256_sub_ps, _mm256_xor_ps,
 };
-use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::Vec3;
 
-use super::{Lane, LaneKernel, V3};
+use super::{Lane, Lane64, LaneKernel, V3};
 
 /// `_MM_SHUFFLE(a, b, c, d)`: the immediate of `_mm256_shuffle_ps` that takes, in each 128-bit half,
 /// elements `d`, `c` of the first operand and `b`, `a` of the second.
@@ -62,6 +69,31 @@ struct Avx8(__m256);
 #[derive(Clone, Copy)]
 struct AvxMask(__m256);
 
+/// Four `f64` in one AVX register: half of an [`Avx8`] widened (`Lane::Wide`).
+#[derive(Clone, Copy)]
+struct Avx64(__m256d);
+
+impl Lane64 for Avx64 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        Self(bytemuck::cast([x; 4]))
+    }
+}
+
+/// The integer view of a float register (a free reinterpretation).
+#[inline(always)]
+fn bits(x: __m256) -> __m256i {
+    // SAFETY: an AVX instruction on values that exist only on AVX2 CPUs (module docs).
+    unsafe { _mm256_castps_si256(x) }
+}
+
+/// The float view of an integer register.
+#[inline(always)]
+fn float(x: __m256i) -> __m256 {
+    // SAFETY: as above.
+    unsafe { _mm256_castsi256_ps(x) }
+}
+
 impl Avx8 {
     #[inline(always)]
     fn array(self) -> [f32; 8] {
@@ -87,6 +119,21 @@ avx_binop!(Avx8, Mul, mul, _mm256_mul_ps);
 avx_binop!(Avx8, Div, div, _mm256_div_ps);
 avx_binop!(AvxMask, BitAnd, bitand, _mm256_and_ps);
 avx_binop!(AvxMask, BitOr, bitor, _mm256_or_ps);
+avx_binop!(Avx64, Add, add, _mm256_add_pd);
+avx_binop!(Avx64, Sub, sub, _mm256_sub_pd);
+avx_binop!(Avx64, Mul, mul, _mm256_mul_pd);
+avx_binop!(Avx64, Div, div, _mm256_div_pd);
+
+impl Neg for Avx8 {
+    type Output = Self;
+    /// Flip the sign bit, as `f32`'s negation does (exact; −0 for +0, NaN stays NaN).
+    #[inline(always)]
+    fn neg(self) -> Self {
+        let sign: __m256 = bytemuck::cast([0x8000_0000_u32; 8]);
+        // SAFETY: an AVX instruction on values that exist only on AVX2 CPUs (module docs).
+        Self(unsafe { _mm256_xor_ps(self.0, sign) })
+    }
+}
 
 impl Not for AvxMask {
     type Output = Self;
@@ -108,6 +155,55 @@ fn cmp<const P: i32>(a: Avx8, b: Avx8) -> AvxMask {
 impl Lane for Avx8 {
     type Mask = AvxMask;
     const LANES: usize = 8;
+    type Wide = Avx64;
+
+    #[inline(always)]
+    fn pow2i(n: Self) -> Self {
+        // SAFETY: AVX2 instructions on values that exist only on AVX2 CPUs (module docs). The
+        // conversion of an integer-valued float is exact in any rounding mode.
+        Self(float(unsafe {
+            _mm256_slli_epi32::<23>(_mm256_add_epi32(_mm256_cvtps_epi32(n.0), _mm256_set1_epi32(127)))
+        }))
+    }
+    #[inline(always)]
+    fn frexp(self) -> (Self, Self) {
+        let b = bits(self.0);
+        // SAFETY: as above.
+        unsafe {
+            let m = _mm256_or_si256(
+                _mm256_and_si256(b, _mm256_set1_epi32(0x007f_ffff)),
+                _mm256_set1_epi32(0x3f80_0000),
+            );
+            let e = _mm256_cvtepi32_ps(_mm256_srli_epi32::<23>(b));
+            (Self(float(m)), Self(e) - Self::splat(127.0))
+        }
+    }
+    #[inline(always)]
+    fn has_bits(self, mask: u32) -> AvxMask {
+        // SAFETY: as above.
+        let zero = unsafe {
+            _mm256_cmpeq_epi32(
+                _mm256_and_si256(bits(self.0), _mm256_set1_epi32(mask as i32)),
+                _mm256_set1_epi32(0),
+            )
+        };
+        !AvxMask(float(zero))
+    }
+    #[inline(always)]
+    fn widen(self) -> (Avx64, Avx64) {
+        // SAFETY: as above.
+        unsafe {
+            (
+                Avx64(_mm256_cvtps_pd(_mm256_castps256_ps128(self.0))),
+                Avx64(_mm256_cvtps_pd(_mm256_extractf128_ps::<1>(self.0))),
+            )
+        }
+    }
+    #[inline(always)]
+    fn narrow(lo: Avx64, hi: Avx64) -> Self {
+        // SAFETY: as above.
+        Self(unsafe { _mm256_set_m128(_mm256_cvtpd_ps(hi.0), _mm256_cvtpd_ps(lo.0)) })
+    }
 
     #[inline(always)]
     fn splat(x: f32) -> Self {
@@ -152,6 +248,14 @@ impl Lane for Avx8 {
     #[inline(always)]
     fn eq(self, o: Self) -> AvxMask {
         cmp::<_CMP_EQ_OQ>(self, o)
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> AvxMask {
+        cmp::<_CMP_GE_OQ>(self, o)
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> AvxMask {
+        cmp::<_CMP_LE_OQ>(self, o)
     }
     #[inline(always)]
     fn is_finite(self) -> AvxMask {

@@ -11,24 +11,36 @@
 //! scalar code does, lane by lane and in the same order: `+ − × ÷` and `√` are correctly rounded,
 //! `min`/`max`/`abs` have `f32`'s semantics (with the sign of a zero result pinned, see [`Lane::min`]),
 //! comparisons and [`Lane::select`] are exact, and Rust never contracts `a·b + c` into a fused
-//! multiply-add on its own (no fast-math; FMA is not enabled for the AVX2 build either). Terms
-//! without a wide form (`exp`, `powf`, `erf`, the exact Fresnel equations, …) run the scalar function
-//! on each lane ([`Lane::map`]). A batch therefore gives the same bits as [`crate::Model::eval`] on
+//! multiply-add on its own (no fast-math; FMA is not enabled for the AVX2 build either). The
+//! transcendental functions (`exp`, `ln`, `powf`, `sin`/`cos`, `atan2`, `acos`, `erf`, …) are
+//! [`Lane`] methods written once over the trait ([`math`]), so they are the same sequence of those
+//! operations in every lane type; a term with no generic form runs its scalar function on each lane
+//! ([`Lane::map`]). A batch therefore gives the same bits as [`crate::Model::eval`] on
 //! each sample, on any x86-64 CPU, with or without AVX, for any thread count (the batch tests check
 //! every model against the scalar path bit for bit).
 //!
 //! Branches become selects: the generic code computes both sides and keeps one per lane. Lanes that a
 //! select discards may hold anything (NaN, ∞); they never reach a result.
+//!
+//! **Inlining.** A lane operation reaches single AVX instructions only when it is inlined into the
+//! AVX2-enabled kernel, so the terms (each `D`, `G`, `F`, each function of [`math`]) are
+//! `#[inline(always)]` in optimised builds. Closures are not used in lane code: a closure is a
+//! function of its own, compiled without the AVX2 feature, and its intrinsics become calls. In
+//! builds with debug assertions (unoptimised `cargo build`/`cargo test`) the terms are only
+//! `#[inline]`: `inline(always)` is honoured at opt-level 0, where every inlined call keeps its own
+//! stack slots, and one batch kernel with every term inlined needs more than a megabyte of stack,
+//! more than a 2 MiB test or rayon thread has. Results are the same bits either way (inlining does
+//! not change the operations).
 
-use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::{Vec3, Vec3A};
-use wide::{CmpEq, CmpGt, CmpLt, CmpNe};
-
-use crate::Geometry;
+use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe};
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+
+pub mod math;
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx2::dispatch as dispatch_avx2;
@@ -57,7 +69,14 @@ pub fn run_widest<K: LaneKernel>(k: K) {
 ///
 /// Every operation has the semantics of the `f32` operation of the same name, applied lane by lane.
 pub trait Lane:
-    Copy + Send + Sync + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+    Copy
+    + Send
+    + Sync
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
 {
     /// A per-lane boolean (`bool` for `f32`).
     type Mask: Copy + BitAnd<Output = Self::Mask> + BitOr<Output = Self::Mask> + Not<Output = Self::Mask>;
@@ -85,6 +104,10 @@ pub trait Lane:
     fn lt(self, o: Self) -> Self::Mask;
     /// `self == o`.
     fn eq(self, o: Self) -> Self::Mask;
+    /// `self >= o` (false where either is NaN).
+    fn ge(self, o: Self) -> Self::Mask;
+    /// `self <= o` (false where either is NaN).
+    fn le(self, o: Self) -> Self::Mask;
     /// `f32::is_finite` per lane.
     fn is_finite(self) -> Self::Mask;
     /// A mask with every lane `b`.
@@ -98,6 +121,28 @@ pub trait Lane:
     }
     /// `a` where `m`, else `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+
+    // Bit-level primitives of the transcendental functions ([`math`]): integer operations on the
+    // IEEE-754 fields, exact, hence the same bits in every lane type.
+
+    /// `2ⁿ` (exact) for integer-valued `n` in [−126, 127]: the biased exponent `n + 127` shifted into
+    /// place. Callers clamp `n` into that range first (other values are not defined to agree across
+    /// lane types).
+    fn pow2i(n: Self) -> Self;
+    /// `(m, e)` with `x = m · 2ᵉ`, `m` in [1, 2) and integer `e`, for positive normal `x`: `e` is the
+    /// exponent field minus 127 and `m` the significand with a zero exponent. For other `x` the same
+    /// field manipulation (exact, and equal in every lane type; callers select those lanes away).
+    fn frexp(self) -> (Self, Self);
+    /// Lanes where `self.to_bits() & bits != 0` (e.g. the sign bit, or the low bits of an integer
+    /// held in the significand of a float shifted by 1.5 · 2²³).
+    fn has_bits(self, bits: u32) -> Self::Mask;
+    /// float64 lanes holding this type's lanes in two halves (a float64 of the sample, and an unused
+    /// one, for `f32`): the extended precision inside [`Lane::powf`].
+    type Wide: Lane64;
+    /// Lanes as float64 (exact), in two halves: lanes `0..LANES/2` and the rest.
+    fn widen(self) -> (Self::Wide, Self::Wide);
+    /// The inverse of [`Lane::widen`], each lane rounded to the nearest f32 (ties to even).
+    fn narrow(lo: Self::Wide, hi: Self::Wide) -> Self;
 
     /// `f` applied to each lane: how terms without a wide form join a wide computation (bit-identical to
     /// calling `f` on each sample).
@@ -124,6 +169,129 @@ pub trait Lane:
         }
     }
 
+    // Transcendental functions ([`math`]): one generic body each, never overridden by a lane type,
+    // so every lane type computes the same bits. Special values as the `f32` method of the same
+    // name unless stated; accuracy against float64 in ulps (units in the last place of the f32
+    // result) over the stated domain, measured as [`math`] describes.
+
+    /// `eˣ` (≤ 0.96 ulp). 0 for x < −103.97 (below the smallest subnormal), +∞ for x > 88.72, 1 at ±0.
+    #[inline(always)]
+    fn exp(self) -> Self {
+        math::exp(self)
+    }
+    /// `2ˣ` (≤ 1.2 ulp). 0 for x < −150, +∞ for x ≥ 128.
+    #[inline(always)]
+    fn exp2(self) -> Self {
+        math::exp2(self)
+    }
+    /// `ln x` (≤ 0.82 ulp) for x ≥ 0: −∞ at ±0, NaN for x < 0, +∞ at +∞; subnormal x accurate.
+    #[inline(always)]
+    fn ln(self) -> Self {
+        math::ln(self)
+    }
+    /// `log₂ x` (≤ 1.75 ulp) for x ≥ 0 (edge values as [`Lane::ln`]).
+    #[inline(always)]
+    fn log2(self) -> Self {
+        math::log2(self)
+    }
+    /// `ln(1 + x)` (≤ 2.4 ulp) for x ≥ −1, accurate near 0 (≈ x for tiny x, ±0 kept): −∞ at −1, NaN below.
+    #[inline(always)]
+    fn ln_1p(self) -> Self {
+        math::ln_1p(self)
+    }
+    /// `xʸ` (≤ 0.51 ulp: correctly rounded but within 2⁻⁶ ulp of a tie) for a base x ≥ 0 (the lane form of `f32::powf` where it matters for BRDFs: cosines raised
+    /// to exponents up to ~10⁸). −0 counts as +0; x < 0 gives NaN (unlike `f32::powf`, which has
+    /// real results for integer y: use multiplication for those). `x⁰ = 1` and `1ʸ = 1` for every x,
+    /// y (NaN included), `0ʸ` is 0 for y > 0 and +∞ for y < 0, `∞ʸ` is +∞ for y > 0 and 0 for y < 0.
+    #[inline(always)]
+    fn powf(self, y: Self) -> Self {
+        math::powf(self, y)
+    }
+    /// `sin x` (≤ 1.6 ulp), x in radians; accurate for |x| ≤ 1.6 · 10⁶, in [−1, 1] for any finite x;
+    /// NaN for ±∞.
+    #[inline(always)]
+    fn sin(self) -> Self {
+        math::sin(self)
+    }
+    /// `cos x` (as [`Lane::sin`]).
+    #[inline(always)]
+    fn cos(self) -> Self {
+        math::cos(self)
+    }
+    /// `(sin x, cos x)` sharing the argument reduction; the same bits as [`Lane::sin`] and
+    /// [`Lane::cos`].
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        math::sin_cos(self)
+    }
+    /// `tan x` (≤ 2.7 ulp; domain as [`Lane::sin`]).
+    #[inline(always)]
+    fn tan(self) -> Self {
+        math::tan(self)
+    }
+    /// `asin x` (≤ 2.3 ulp) in [−π/2, π/2] for |x| ≤ 1, NaN outside.
+    #[inline(always)]
+    fn asin(self) -> Self {
+        math::asin(self)
+    }
+    /// `acos x` (≤ 1.2 ulp) in [0, π] for |x| ≤ 1, NaN outside.
+    #[inline(always)]
+    fn acos(self) -> Self {
+        math::acos(self)
+    }
+    /// `atan x` (≤ 2.3 ulp) in [−π/2, π/2].
+    #[inline(always)]
+    fn atan(self) -> Self {
+        math::atan(self)
+    }
+    /// `atan2(self, x)` (≤ 2.6 ulp): the angle of the point (x, self) in [−π, π], with `f32::atan2`'s signed-zero
+    /// and infinity cases.
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        math::atan2(self, x)
+    }
+    /// The error function `erf x = (2/√π) ∫₀ˣ e^{−t²} dt` (≤ 1.3 ulp); ±1 beyond |x| ≈ 3.92, ±0 kept.
+    #[inline(always)]
+    fn erf(self) -> Self {
+        math::erf(self)
+    }
+    /// `erfc x = 1 − erf x` (≤ 4.7 ulp), accurate where it is tiny (x up to ≈ 10.05, 0 beyond); 2 at −∞.
+    #[inline(always)]
+    fn erfc(self) -> Self {
+        math::erfc(self)
+    }
+    /// The inverse error function (≤ 2.8 ulp) for |x| ≤ 1 (±∞ at ±1, NaN outside; Giles 2011 and a
+    /// Newton step): for samplers (Beckmann visible normals).
+    #[inline(always)]
+    fn erfinv(self) -> Self {
+        math::erfinv(self)
+    }
+    /// `√(x² + y²)` (≤ 1.2 ulp) without overflow or underflow in the squares.
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        math::hypot(self, y)
+    }
+    /// Largest integer ≤ x (exact).
+    #[inline(always)]
+    fn floor(self) -> Self {
+        math::floor(self)
+    }
+    /// Smallest integer ≥ x (exact).
+    #[inline(always)]
+    fn ceil(self) -> Self {
+        math::ceil(self)
+    }
+    /// Nearest integer, halves away from zero, like `f32::round` (exact).
+    #[inline(always)]
+    fn round(self) -> Self {
+        math::round(self)
+    }
+    /// `|x|` with the sign bit of `sign` (exact; NaN signs too).
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        Self::select(sign.has_bits(0x8000_0000), -self.abs(), self.abs())
+    }
+
     /// `f32::clamp(lo, hi)` per lane (NaN stays NaN).
     #[inline(always)]
     fn clamp(self, lo: f32, hi: f32) -> Self {
@@ -132,9 +300,62 @@ pub trait Lane:
     }
 }
 
+/// float64 lanes: the extended-precision companion of a [`Lane`] type ([`Lane::Wide`]), with the
+/// correctly rounded arithmetic of `f64`.
+pub trait Lane64:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    /// Every lane `x`.
+    fn splat(x: f64) -> Self;
+}
+
+impl Lane64 for f64 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+}
+
+impl Lane64 for wide::f64x4 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        wide::f64x4::splat(x)
+    }
+}
+
+impl Lane64 for wide::f64x2 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        wide::f64x2::splat(x)
+    }
+}
+
 impl Lane for f32 {
     type Mask = bool;
     const LANES: usize = 1;
+    type Wide = f64;
+
+    #[inline(always)]
+    fn pow2i(n: Self) -> Self {
+        f32::from_bits(((n as i32 + 127) as u32) << 23)
+    }
+    #[inline(always)]
+    fn frexp(self) -> (Self, Self) {
+        let b = self.to_bits();
+        (f32::from_bits((b & 0x007f_ffff) | 0x3f80_0000), (b >> 23) as i32 as f32 - 127.0)
+    }
+    #[inline(always)]
+    fn has_bits(self, bits: u32) -> bool {
+        self.to_bits() & bits != 0
+    }
+    #[inline(always)]
+    fn widen(self) -> (f64, f64) {
+        (f64::from(self), 0.0)
+    }
+    #[inline(always)]
+    fn narrow(lo: f64, _hi: f64) -> Self {
+        lo as f32
+    }
 
     #[inline(always)]
     fn splat(x: f32) -> Self {
@@ -179,6 +400,14 @@ impl Lane for f32 {
         self == o
     }
     #[inline(always)]
+    fn ge(self, o: Self) -> bool {
+        self >= o
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self <= o
+    }
+    #[inline(always)]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
     }
@@ -196,25 +425,29 @@ impl Lane for f32 {
     }
 }
 
-/// Eight `f32` lanes ([`wide::f32x8`]: one AVX register where the crate is compiled for AVX, two SSE
-/// registers otherwise).
-pub type F32x8 = wide::f32x8;
+/// Eight `f32` lanes on [`wide::f32x8`] (one AVX register where the crate is compiled for AVX, two
+/// SSE registers otherwise). A wrapper rather than `wide`'s type itself so that every operator has
+/// `f32`'s semantics: `wide` negates by `0 − x`, which turns −0 into +0 where `f32` flips the sign.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct F32x8(pub wide::f32x8);
 
-/// Four `f32` lanes ([`wide::f32x4`]: one SSE register; VEX-encoded in the batch evaluator's AVX2 build).
-pub type F32x4 = wide::f32x4;
+/// Four `f32` lanes on [`wide::f32x4`] (one SSE register; VEX-encoded in the batch evaluator's AVX2
+/// build); a wrapper like [`F32x8`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct F32x4(pub wide::f32x4);
 
 /// Lane masks of [`F32x8`] (all bits set for `true`, the layout of SSE/AVX compare results).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct M32x8(pub F32x8);
+pub struct M32x8(pub wide::f32x8);
 
 /// Lane masks of [`F32x4`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct M32x4(pub F32x4);
+pub struct M32x4(pub wide::f32x4);
 
 /// `Lane` for a `wide` float vector: every operation used is a correctly rounded IEEE operation or
 /// an exact bitwise one.
 macro_rules! wide_lane {
-    ($f:ty, $m:ident, $n:literal) => {
+    ($f:ident, $w:ty, $m:ident, $n:literal, $i:ty, $u:ty, $d:ty) => {
         impl BitAnd for $m {
             type Output = Self;
             #[inline(always)]
@@ -236,60 +469,139 @@ macro_rules! wide_lane {
                 Self(!self.0)
             }
         }
+        impl Add for $f {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, o: Self) -> Self {
+                Self(self.0 + o.0)
+            }
+        }
+        impl Sub for $f {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, o: Self) -> Self {
+                Self(self.0 - o.0)
+            }
+        }
+        impl Mul for $f {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, o: Self) -> Self {
+                Self(self.0 * o.0)
+            }
+        }
+        impl Div for $f {
+            type Output = Self;
+            #[inline(always)]
+            fn div(self, o: Self) -> Self {
+                Self(self.0 / o.0)
+            }
+        }
+        impl Neg for $f {
+            type Output = Self;
+            /// The sign bit flipped, as `f32`'s negation (−0 for +0).
+            #[inline(always)]
+            fn neg(self) -> Self {
+                Self(self.0 ^ <$w>::splat(-0.0))
+            }
+        }
 
         impl Lane for $f {
             type Mask = $m;
             const LANES: usize = $n;
+            type Wide = $d;
+
+            #[inline(always)]
+            fn pow2i(n: Self) -> Self {
+                // Integer-valued n: the conversion is exact whatever its rounding mode.
+                Self(bytemuck::cast((n.0.round_int() + <$i>::splat(127)) << 23))
+            }
+            #[inline(always)]
+            fn frexp(self) -> (Self, Self) {
+                let b: $u = bytemuck::cast(self.0);
+                let m: $w = bytemuck::cast((b & <$u>::splat(0x007f_ffff)) | <$u>::splat(0x3f80_0000));
+                let e = <$i>::round_float(bytemuck::cast(b >> 23)) - <$w>::splat(127.0);
+                (Self(m), Self(e))
+            }
+            #[inline(always)]
+            fn has_bits(self, bits: u32) -> $m {
+                let b: $i = bytemuck::cast(self.0);
+                let zero: $w = bytemuck::cast((b & <$i>::splat(bits as i32)).cmp_eq(<$i>::splat(0)));
+                $m(!zero)
+            }
+            #[inline(always)]
+            fn widen(self) -> ($d, $d) {
+                const H: usize = $n / 2;
+                let a = self.0.to_array();
+                (
+                    <$d>::new(std::array::from_fn(|i| f64::from(a[i]))),
+                    <$d>::new(std::array::from_fn(|i| f64::from(a[H + i]))),
+                )
+            }
+            #[inline(always)]
+            fn narrow(lo: $d, hi: $d) -> Self {
+                const H: usize = $n / 2;
+                let (lo, hi) = (lo.to_array(), hi.to_array());
+                Self(<$w>::new(std::array::from_fn(|i| if i < H { lo[i] as f32 } else { hi[i - H] as f32 })))
+            }
 
             #[inline(always)]
             fn splat(x: f32) -> Self {
-                <$f>::splat(x)
+                Self(<$w>::splat(x))
             }
             #[inline(always)]
             fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
-                <$f>::new(std::array::from_fn(f))
+                Self(<$w>::new(std::array::from_fn(f)))
             }
             #[inline(always)]
             fn lane(self, i: usize) -> f32 {
-                self.as_array_ref()[i]
+                self.0.as_array_ref()[i]
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
-                <$f>::sqrt(self)
+                Self(self.0.sqrt())
             }
             #[inline(always)]
             fn min(self, o: Self) -> Self {
                 // f32::min: the smaller, or the other operand where one is NaN (see `impl Lane for f32`).
-                Self::select($m(o.cmp_lt(self) | self.cmp_ne(self)), o, self)
+                Self::select($m(o.0.cmp_lt(self.0) | self.0.cmp_ne(self.0)), o, self)
             }
             #[inline(always)]
             fn max(self, o: Self) -> Self {
-                Self::select($m(o.cmp_gt(self) | self.cmp_ne(self)), o, self)
+                Self::select($m(o.0.cmp_gt(self.0) | self.0.cmp_ne(self.0)), o, self)
             }
             #[inline(always)]
             fn abs(self) -> Self {
-                <$f>::abs(self)
+                Self(self.0.abs())
             }
             #[inline(always)]
             fn gt(self, o: Self) -> $m {
-                $m(self.cmp_gt(o))
+                $m(self.0.cmp_gt(o.0))
             }
             #[inline(always)]
             fn lt(self, o: Self) -> $m {
-                $m(self.cmp_lt(o))
+                $m(self.0.cmp_lt(o.0))
             }
             #[inline(always)]
             fn eq(self, o: Self) -> $m {
-                $m(self.cmp_eq(o))
+                $m(self.0.cmp_eq(o.0))
+            }
+            #[inline(always)]
+            fn ge(self, o: Self) -> $m {
+                $m(self.0.cmp_ge(o.0))
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> $m {
+                $m(self.0.cmp_le(o.0))
             }
             #[inline(always)]
             fn is_finite(self) -> $m {
                 // `x · 0 = 0` exactly when x is finite (∞ · 0 and NaN · 0 are NaN).
-                $m((self * <$f>::ZERO).cmp_eq(<$f>::ZERO))
+                $m((self.0 * <$w>::ZERO).cmp_eq(<$w>::ZERO))
             }
             #[inline(always)]
             fn mask_splat(b: bool) -> $m {
-                $m(<$f>::splat(f32::from_bits(if b { u32::MAX } else { 0 })))
+                $m(<$w>::splat(f32::from_bits(if b { u32::MAX } else { 0 })))
             }
             #[inline(always)]
             fn mask_lane(m: $m, i: usize) -> bool {
@@ -302,13 +614,13 @@ macro_rules! wide_lane {
             #[inline(always)]
             fn select(m: $m, a: Self, b: Self) -> Self {
                 // A blend on whole-lane masks: exact for every value, NaN payloads included.
-                m.0.blend(a, b)
+                Self(m.0.blend(a.0, b.0))
             }
         }
     };
 }
-wide_lane!(F32x8, M32x8, 8);
-wide_lane!(F32x4, M32x4, 4);
+wide_lane!(F32x8, wide::f32x8, M32x8, 8, wide::i32x8, wide::u32x8, wide::f64x4);
+wide_lane!(F32x4, wide::f32x4, M32x4, 4, wide::i32x4, wide::u32x4, wide::f64x2);
 
 /// A 3-vector (an RGB colour or a direction) whose components are lanes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -349,6 +661,17 @@ impl<F: Lane> V3<F> {
     #[inline(always)]
     pub fn dot(self, o: Self) -> F {
         self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// `self × o`, component by component as glam's `Vec3A::cross` (`y·o.z − o.y·z`, …: the same
+    /// products, so the same bits).
+    #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        Self {
+            x: self.y * o.z - o.y * self.z,
+            y: self.z * o.x - o.z * self.x,
+            z: self.x * o.y - o.x * self.y,
+        }
     }
 
     /// Each component multiplied by the per-lane factor `s`.
@@ -431,79 +754,8 @@ impl From<Vec3A> for V3<f32> {
     }
 }
 
-/// [`Geometry`] for `F::LANES` samples: unit `l`, `v`, `n`, the optional tangent and the cosines.
-#[derive(Debug, Clone, Copy)]
-pub struct LaneGeometry<F: Lane> {
-    /// Unit direction toward the light.
-    pub l: V3<F>,
-    /// Unit direction toward the viewer.
-    pub v: V3<F>,
-    /// Unit surface normal.
-    pub n: V3<F>,
-    /// Unit tangent hint, where given; lanes where it had zero length have `tangent_ok` false.
-    pub tangent: Option<V3<F>>,
-    /// Lanes whose tangent is usable.
-    pub tangent_ok: F::Mask,
-    /// cos θ_l = n·l.
-    pub nl: F,
-    /// cos θ_v = n·v.
-    pub nv: F,
-}
-
-impl<F: Lane> LaneGeometry<F> {
-    /// Normalise the inputs as [`Geometry::new`] does, lane by lane. The mask is false in the lanes
-    /// where `Geometry::new` returns `None` (zero-length or non-finite `l`, `v` or `n`).
-    #[inline(always)]
-    pub fn new(l: V3<F>, v: V3<F>, n: V3<F>, tangent: Option<V3<F>>) -> (Self, F::Mask) {
-        let (l, ok_l) = l.normalize_or_zero();
-        let (v, ok_v) = v.normalize_or_zero();
-        let (n, ok_n) = n.normalize_or_zero();
-        let (tangent, tangent_ok) = match tangent.map(V3::normalize_or_zero) {
-            Some((t, ok)) => (Some(t), ok),
-            None => (None, F::mask_splat(false)),
-        };
-        let g = Self { l, v, n, tangent, tangent_ok, nl: n.dot(l), nv: n.dot(v) };
-        (g, ok_l & ok_v & ok_n)
-    }
-
-    /// Lanes where both the light and the viewer are strictly above the surface
-    /// ([`Geometry::both_above`]).
-    #[inline(always)]
-    pub fn both_above(&self) -> F::Mask {
-        let zero = F::splat(0.0);
-        self.nl.gt(zero) & self.nv.gt(zero)
-    }
-
-    /// Lane `i` as a scalar [`Geometry`] (bit-identical to `Geometry::new` on that sample's inputs).
-    #[inline]
-    pub fn lane(&self, i: usize) -> Geometry {
-        let a = |w: &V3<F>| Vec3A::new(w.x.lane(i), w.y.lane(i), w.z.lane(i));
-        let tangent = self.tangent.as_ref().filter(|_| F::mask_lane(self.tangent_ok, i)).map(a);
-        Geometry {
-            l: a(&self.l),
-            v: a(&self.v),
-            n: a(&self.n),
-            tangent,
-            nl: self.nl.lane(i),
-            nv: self.nv.lane(i),
-        }
-    }
-}
-
-impl From<&Geometry> for LaneGeometry<f32> {
-    #[inline(always)]
-    fn from(g: &Geometry) -> Self {
-        Self {
-            l: g.l.into(),
-            v: g.v.into(),
-            n: g.n.into(),
-            tangent: g.tangent.map(Into::into),
-            tangent_ok: g.tangent.is_some(),
-            nl: g.nl,
-            nv: g.nv,
-        }
-    }
-}
+/// Lane geometry lives with the scalar one (one formula for both, see [`crate::geometry`]).
+pub use crate::geometry::LaneGeometry;
 
 #[cfg(test)]
 mod tests {
@@ -560,40 +812,6 @@ mod tests {
                     assert_eq!(F32x8::mask_lane(Lane::is_finite(a), i), x.is_finite());
                     let m = a.gt(b);
                     assert!(same(F32x8::select(m, a, b).lane(i), if x > y { x } else { y }));
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn lane_geometry_equals_scalar_geometry_bit_for_bit() {
-        let mut rows = Vec::new();
-        for k in 0..64u32 {
-            let f = |j: u32| ((k * 7 + j * 13) as f32 * 0.618).sin() * 2.0;
-            rows.push(Vec3::new(f(0), f(1), f(2)));
-        }
-        rows.extend([
-            Vec3::ZERO,
-            Vec3::new(f32::NAN, 0.0, 1.0),
-            Vec3::new(1e30, 1e30, 0.0),
-            Vec3::splat(1e-30),
-        ]);
-        for base in 0..rows.len() {
-            let pick = |off: usize| V3::<F32x8> {
-                x: F32x8::from_fn(|i| rows[(base + off + 3 * i) % rows.len()].x),
-                y: F32x8::from_fn(|i| rows[(base + off + 3 * i) % rows.len()].y),
-                z: F32x8::from_fn(|i| rows[(base + off + 3 * i) % rows.len()].z),
-            };
-            let (l, v, n, t) = (pick(0), pick(1), pick(2), pick(5));
-            let (g, ok) = LaneGeometry::new(l, v, n, Some(t));
-            for i in 0..8 {
-                let scalar = Geometry::new(l.lane(i), v.lane(i), n.lane(i), Some(t.lane(i)));
-                assert_eq!(F32x8::mask_lane(ok, i), scalar.is_some());
-                if let Some(s) = scalar {
-                    let w = g.lane(i);
-                    assert_eq!(w, s);
-                    assert_eq!(w.nl.to_bits(), s.nl.to_bits());
-                    assert_eq!(w.nv.to_bits(), s.nv.to_bits());
                 }
             }
         }

@@ -1,4 +1,4 @@
-//! Loading meshes from OBJ and PLY files, and the meshes embedded in the crate.
+//! Loading meshes from OBJ, PLY and STL files, and the meshes embedded in the crate.
 //!
 //! Every failure — missing file, unknown extension, malformed or truncated content, index out of
 //! range, NaN or infinite coordinates, a header declaring more elements than the file can hold —
@@ -12,8 +12,12 @@
 //! [`Mesh::flip_winding`] when it is negative (the Cyberware horse of the test assets is such a
 //! mesh).
 
+pub mod gltf_scene;
 mod obj;
 mod ply;
+mod stl;
+
+pub use gltf_scene::{GltfScene, load_gltf, load_gltf_bytes};
 
 use std::path::Path;
 
@@ -32,6 +36,8 @@ pub enum MeshFormat {
     Obj,
     /// Stanford PLY (ASCII or binary, either byte order), read with `ply-rs-bw`.
     Ply,
+    /// STL, binary or ASCII; corners welded by position (see the `stl` module notes).
+    Stl,
 }
 
 impl MeshFormat {
@@ -41,6 +47,7 @@ impl MeshFormat {
         match ext.as_str() {
             "obj" => Some(Self::Obj),
             "ply" => Some(Self::Ply),
+            "stl" => Some(Self::Stl),
             _ => None,
         }
     }
@@ -53,6 +60,7 @@ struct Loaded {
     indices: Vec<[u32; 3]>,
     normals: Option<Vec<Vec3>>,
     colors: Option<Vec<Vec3>>,
+    uvs: Option<Vec<glam::Vec2>>,
     polygons_triangulated: usize,
     faces_skipped: usize,
 }
@@ -72,7 +80,7 @@ pub struct LoadedMesh {
     pub colors_from_file: bool,
 }
 
-/// Load an OBJ or PLY mesh, choosing the format by the extension (`.obj`, `.ply`, any case);
+/// Load an OBJ, PLY or STL mesh, choosing the format by the extension (`.obj`, `.ply`, `.stl`, any case);
 /// a file with another extension is read as PLY when it starts with the PLY magic `ply`.
 pub fn load_mesh(path: impl AsRef<Path>) -> Result<Mesh, RasterError> {
     load_mesh_with_info(path).map(|loaded| loaded.mesh)
@@ -84,6 +92,23 @@ pub fn load_mesh_with_info(path: impl AsRef<Path>) -> Result<LoadedMesh, RasterE
     let path = path.as_ref();
     let name = path.display().to_string();
     let file_error = |problem: String| RasterError::File { path: name.clone(), problem };
+    let bytes = read_regular_file(path)?;
+    let format = match MeshFormat::from_path(path) {
+        Some(format) => format,
+        None if bytes.starts_with(b"ply") => MeshFormat::Ply,
+        None => {
+            let ext = path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
+            return Err(file_error(format!(
+                "unsupported mesh file type '.{ext}' (expected .obj, .ply or .stl)"
+            )));
+        }
+    };
+    load_named(&bytes, format, &name)
+}
+
+/// The bytes of a regular file of at most [`MAX_FILE_BYTES`]; errors name the file.
+pub(crate) fn read_regular_file(path: &Path) -> Result<Vec<u8>, RasterError> {
+    let file_error = |problem: String| RasterError::File { path: path.display().to_string(), problem };
     // Only regular files: reading a device such as /dev/zero or a FIFO would never end.
     let metadata = std::fs::metadata(path).map_err(|e| file_error(format!("cannot read the file: {e}")))?;
     if !metadata.is_file() {
@@ -95,16 +120,7 @@ pub fn load_mesh_with_info(path: impl AsRef<Path>) -> Result<LoadedMesh, RasterE
             metadata.len()
         )));
     }
-    let bytes = std::fs::read(path).map_err(|e| file_error(format!("cannot read the file: {e}")))?;
-    let format = match MeshFormat::from_path(path) {
-        Some(format) => format,
-        None if bytes.starts_with(b"ply") => MeshFormat::Ply,
-        None => {
-            let ext = path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
-            return Err(file_error(format!("unsupported mesh file type '.{ext}' (expected .obj or .ply)")));
-        }
-    };
-    load_named(&bytes, format, &name)
+    std::fs::read(path).map_err(|e| file_error(format!("cannot read the file: {e}")))
 }
 
 /// Load a mesh from bytes in memory (the contents of a file of the given format).
@@ -123,19 +139,28 @@ pub fn load_ply_bytes(bytes: &[u8]) -> Result<Mesh, RasterError> {
     load_mesh_bytes(bytes, MeshFormat::Ply)
 }
 
+/// Load an STL mesh (binary or ASCII) from bytes in memory.
+pub fn load_stl_bytes(bytes: &[u8]) -> Result<Mesh, RasterError> {
+    load_mesh_bytes(bytes, MeshFormat::Stl)
+}
+
 fn load_named(bytes: &[u8], format: MeshFormat, name: &str) -> Result<LoadedMesh, RasterError> {
     let file_error = |problem: String| RasterError::File { path: name.to_owned(), problem };
     let loaded = match format {
         MeshFormat::Obj => obj::parse(bytes),
         MeshFormat::Ply => ply::parse(bytes),
+        MeshFormat::Stl => stl::parse(bytes),
     }
     .map_err(file_error)?;
-    let Loaded { positions, indices, normals, colors, polygons_triangulated, faces_skipped } = loaded;
+    let Loaded { positions, indices, normals, colors, uvs, polygons_triangulated, faces_skipped } = loaded;
     let normals_from_file = normals.is_some();
     let mut mesh = Mesh::new(positions, indices, normals).map_err(|e| file_error(e.to_string()))?;
     let colors_from_file = colors.is_some();
     if let Some(colors) = colors {
         mesh = mesh.with_colors(colors).map_err(|e| file_error(e.to_string()))?;
+    }
+    if let Some(uvs) = uvs {
+        mesh = mesh.with_uvs(uvs).map_err(|e| file_error(e.to_string()))?;
     }
     Ok(LoadedMesh { mesh, polygons_triangulated, faces_skipped, normals_from_file, colors_from_file })
 }

@@ -1,6 +1,7 @@
 //! Wavefront OBJ reading through `tobj`.
 //!
-//! What is read: `v x y z [w | r g b]` positions (and vertex colors), `vn` normals, `f` faces with
+//! What is read: `v x y z [w | r g b]` positions (and vertex colors), `vn` normals, `vt u v` texture
+//! coordinates (kept as `(u, 1 − v)`: [`crate::Mesh::uvs`] has glTF's top-left origin), `f` faces with
 //! `v`, `v/vt`, `v//vn` or `v/vt/vn` corners, 1-based or negative (relative) indices. Polygons are
 //! split into a fan `(v₀, v_k, v_{k+1})`, exact for convex polygons. Faces with 1 or 2 corners
 //! and `l` (line) and `p` (point) elements are ignored, as are groups, objects, smoothing groups
@@ -16,7 +17,7 @@
 //! messages with line numbers and keeps tobj away from inputs on which its index arithmetic
 //! could overflow.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::Loaded;
 use crate::mesh::MAX_ELEMENTS;
@@ -55,8 +56,10 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
     };
     let mut normals: Vec<Vec3> = Vec::new();
     let mut colors: Vec<Vec3> = Vec::new();
+    let mut uvs: Vec<Vec2> = Vec::new();
     let mut all_normals = true;
     let mut all_colors = true;
+    let mut all_uvs = true;
     for model in &models {
         let mesh = &model.mesh;
         let base = loaded.positions.len();
@@ -67,6 +70,9 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
         loaded.positions.extend(mesh.positions.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
         all_normals &= mesh.normals.len() == mesh.positions.len();
         all_colors &= mesh.vertex_color.len() == mesh.positions.len();
+        all_uvs &= mesh.texcoords.len() == count * 2;
+        // OBJ's vt has its origin at the bottom left; Mesh::uvs (glTF's) at the top left.
+        uvs.extend(mesh.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], 1.0 - c[1])));
         normals.extend(mesh.normals.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
         colors.extend(mesh.vertex_color.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
         for tri in mesh.indices.chunks_exact(3) {
@@ -93,6 +99,7 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
     }
     loaded.normals = (all_normals && !normals.is_empty()).then_some(normals);
     loaded.colors = (all_colors && !colors.is_empty()).then_some(colors);
+    loaded.uvs = (all_uvs && !uvs.is_empty()).then_some(uvs);
     Ok(loaded)
 }
 
@@ -117,6 +124,7 @@ fn filter_and_check(text: &str) -> Result<(String, Skipped), String> {
         }
     }
     let kinds = ["vertex", "texture coordinate", "normal"];
+    let plurals = ["vertices", "texture coordinates", "normals"];
     let mut seen = [0i64; 3];
     let mut out = String::with_capacity(text.len());
     let mut skipped = Skipped::default();
@@ -150,10 +158,9 @@ fn filter_and_check(text: &str) -> Result<(String, Skipped), String> {
                             if index > 0 { index <= totals[k] } else { index < 0 && -index <= seen[k] };
                         if !valid {
                             return Err(format!(
-                                "line {number}: {} index {index} is out of range (the file has {} {}s{})",
+                                "line {number}: {} index {index} is out of range (the file has {}{})",
                                 kinds[k],
-                                totals[k],
-                                kinds[k],
+                                count(totals[k], kinds[k], plurals[k]),
                                 if index < 0 {
                                     format!(", {} before this line", seen[k])
                                 } else {
@@ -177,4 +184,9 @@ fn filter_and_check(text: &str) -> Result<(String, Skipped), String> {
         out.push('\n');
     }
     Ok((out, skipped))
+}
+
+/// `"1 vertex"`, `"3 vertices"`: a count with its noun in the right number.
+fn count(n: i64, singular: &str, plural: &str) -> String {
+    format!("{n} {}", if n == 1 { singular } else { plural })
 }

@@ -279,6 +279,7 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
         indices,
         normals,
         colors,
+        uvs: None,
         polygons_triangulated: polygons,
         faces_skipped: skipped,
     })
