@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import _as_numeric
+from brdfpy._arrays import _as_numeric, as_str
 from brdfpy._paths import as_path
 
 __all__ = [
@@ -620,7 +620,7 @@ def polygon_normal(points: ArrayLike, method: str = "newell") -> NDArray[np.floa
     a = _as_numeric("points", points).astype(np.float64)
     if a.ndim != 2 or a.shape[1] != 3:
         raise ValueError(f"points: expected shape (K, 3), got {a.shape}")
-    return np.asarray(_brdfpy.polygon_normal(a.tolist(), method), dtype=np.float32)
+    return np.asarray(_brdfpy.polygon_normal(a.tolist(), as_str("method", method, "a method name")), dtype=np.float32)
 
 
 def builtin_mesh(name: str) -> Mesh:

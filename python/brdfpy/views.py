@@ -398,7 +398,8 @@ class Albedo:
 
 
 def _theta_grid(theta_i: ArrayLike | None) -> F64:
-    t = np.asarray(ALBEDO_THETA_I if theta_i is None else theta_i, dtype=np.float64).reshape(-1)
+    raw = np.asarray(ALBEDO_THETA_I) if theta_i is None else _as_numeric("theta_i", theta_i)
+    t = raw.astype(np.float64).reshape(-1)
     if t.size == 0:
         raise ValueError("theta_i: is empty")
     bad = ~np.isfinite(t) | (t < 0.0) | (t > 90.0)

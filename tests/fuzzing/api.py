@@ -123,7 +123,15 @@ INSTANCES: dict[str, Callable[[random.Random], Any]] = {
     "HalfDiffSlice": lambda r: _views_result("HalfDiffSlice"),
     "Albedo": lambda r: _views_result("Albedo"),
     "AlbedoTable": lambda r: _views_result("AlbedoTable"),
+    "Environment": lambda r: r.choice(
+        [lambda: brdfpy.Environment.uniform(0.5), _sky, lambda: brdfpy.Environment(np.ones((2, 4, 3)))]
+    )(),
 }
+
+
+@lru_cache(maxsize=1)
+def _sky() -> Any:
+    return brdfpy.Environment.sky()
 
 
 def _scene() -> brdfpy.Scene:
@@ -386,6 +394,30 @@ def _quad(r: random.Random, hostile: bool) -> Any:
     )
 
 
+def _env_image(r: random.Random, hostile: bool) -> Any:
+    """An (H, W, 3) radiance map: small and non-negative, or with poison, wrong shape or dtype."""
+    a = np.asarray([[[r.uniform(0.0, 2.0) for _ in range(3)] for _ in range(r.randint(2, 8))]
+                    for _ in range(r.randint(1, 4))], dtype=np.float32)
+    if not hostile:
+        return a
+    k = r.randrange(5)
+    if k == 0:
+        return V._poison(r, a.copy())
+    if k == 1:
+        return V._cast(r, a)
+    if k == 2:
+        return a[..., :2] if r.random() < 0.5 else a[0]
+    if k == 3:
+        return -a
+    return V.hostile_other(r)
+
+
+def _environment(r: random.Random, hostile: bool) -> Any:
+    if not hostile:
+        return None if r.random() < 0.3 else INSTANCES["Environment"](r)
+    return V.hostile_other(r)
+
+
 def _channels(lo: float, hi: float) -> V.Generator:
     def gen(r: random.Random, hostile: bool) -> Any:
         if not hostile:
@@ -615,6 +647,18 @@ PARAMS: dict[str, V.Generator] = {
     "fixed": _opt(_mapping),
     "ambient_light": _channels(0.0, 1.0),
     "background": _channels(0.0, 1.0),
+    # environment lighting
+    "image": _env_image,
+    "rotation": _f(-360.0, 360.0),
+    "zenith": _channels(0.0, 2.0),
+    "horizon": _channels(0.0, 2.0),
+    "ground": _channels(0.0, 2.0),
+    "top": _f(0.0, 2.0),
+    "floor": _f(0.0, 2.0),
+    "environment": _environment,
+    "env_mode": _names(lambda: ["fast", "monte_carlo"]),
+    "env_samples": _i(1, 16),
+    "env_seed": _i(0, 2**32),
 }
 
 #: Where a parameter name means something else in one place.
