@@ -10,18 +10,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
+from brdfpy._arrays import as_f64, as_float
 
 __all__ = ["Camera", "vec3"]
 
 
 def vec3(name: str, x: Any) -> tuple[float, float, float]:
-    """Three finite numbers from a sequence or array of 3 (errors name the argument)."""
+    """Three finite numbers from a sequence or array of 3 (errors name the argument; complex, bool and
+    str input are refused, not cast)."""
     if isinstance(x, (str, bytes)) or x is None:
         raise TypeError(f"{name}: expected three numbers, got {type(x).__name__}")
-    try:
-        a = np.asarray(x, dtype=np.float64)
-    except (ValueError, TypeError):
-        raise TypeError(f"{name}: expected three numbers, got {x!r}") from None
+    a = as_f64(name, x)
     if a.shape != (3,):
         raise ValueError(f"{name}: expected three numbers, got shape {a.shape}")
     if not np.isfinite(a).all():
@@ -34,9 +33,7 @@ _MAX_ASPECT: int = _brdfpy.raster_limits()[0]
 
 
 def _number(name: str, x: Any) -> float:
-    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
-    return float(x)
+    return as_float(name, x)
 
 
 class Camera:

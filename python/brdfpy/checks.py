@@ -131,12 +131,15 @@ def d_normalization(
     """Normalisation of a microfacet distribution, ``∫_{H²} D(h) (n·h) dω_h``, by quadrature.
 
     1 for a normalised D: the microfacets' projected area equals the macro-surface's (Walter et al. 2007
-    eq. 4; notes (b1)). ``distribution`` is a name of :data:`brdfpy.microfacet.DISTRIBUTIONS` with ``alpha``
+    eq. 4). ``distribution`` is a name of :data:`brdfpy.microfacet.DISTRIBUTIONS` with ``alpha``
     (and ``alpha_y``), or a list of lobes as for :func:`brdfpy.microfacet.mixture`. The quadrature is graded
     toward the pole and the tangent axes; see :func:`directional_albedo` for ``n_theta``, ``n_phi`` and
     ``min_panel``.
     """
-    lobes = _lobe(distribution, alpha, alpha_y) if isinstance(distribution, str) else _lobes(distribution)
+    if isinstance(distribution, str):
+        lobes = _lobe(distribution, alpha, alpha_y)
+    else:
+        lobes = _lobes(distribution, "distribution")
     return float(
         _brdfpy.d_normalization(
             lobes,

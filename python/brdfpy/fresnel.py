@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_scalars, as_vectors
+from brdfpy._arrays import _as_numeric, _to_f32, as_float, as_scalars, as_vectors
 
 __all__ = [
     "METALS",
@@ -43,13 +43,14 @@ METALS: tuple[str, ...] = tuple(_brdfpy.metal_names())
 
 
 def _channels(name: str, x: Channels) -> list[float]:
-    """One number or three, as floats (ranges are checked by the compiled module)."""
-    a = np.asarray(x)
-    if a.dtype.kind not in "fiu":
-        raise TypeError(f"{name}: expected a number or 3 numbers, got dtype {a.dtype}")
+    """One number or three, as floats (ranges are checked by the compiled module; a float64 value beyond
+    the float32 range is refused here, naming ``name``, rather than arriving as ``inf``)."""
+    if x is None or isinstance(x, (str, bytes)):
+        raise TypeError(f"{name}: expected a number or 3 numbers, got {type(x).__name__}")
+    a = _as_numeric(name, x)
     if a.shape not in ((), (1,), (3,)):
         raise ValueError(f"{name}: expected a number or 3 numbers (RGB), got shape {a.shape}")
-    return [float(v) for v in a.reshape(-1)]
+    return [float(v) for v in _to_f32(name, a).reshape(-1)]
 
 
 def _cos(cos_i: ArrayLike) -> F32:
@@ -111,7 +112,7 @@ def color_shift(cos_i: ArrayLike, f0: Channels, f0_ref: float | None = None) -> 
     ``F_λ = F0_λ + (1 − F0_λ) · max(0, F_ref − F0_ref)/(1 − F0_ref)``. ``f0_ref`` defaults to the mean of
     ``f0``. Returns ``cos_i.shape + (3,)``.
     """
-    ref = None if f0_ref is None else float(f0_ref)
+    ref = None if f0_ref is None else as_float("f0_ref", f0_ref)
     return _brdfpy.color_shift(_cos(cos_i), _channels("f0", f0), ref)
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import _as_numeric, as_str
+from brdfpy._arrays import _as_numeric, as_f64, as_str
 from brdfpy._paths import as_path
 
 __all__ = [
@@ -516,10 +516,9 @@ def _rebuild_mesh(
 
 
 def _mat4(name: str, m: ArrayLike) -> list[float]:
-    try:
-        a = np.asarray(m, dtype=np.float64)
-    except (ValueError, TypeError) as e:
-        raise TypeError(f"{name}: expected a 4×4 matrix of numbers ({e})") from None
+    if m is None or isinstance(m, (str, bytes)):
+        raise TypeError(f"{name}: expected a 4×4 matrix of numbers, got {type(m).__name__}")
+    a = as_f64(name, m)  # complex, bool, object and ragged input refused naming it
     if a.shape != (4, 4):
         raise ValueError(f"{name}: expected shape (4, 4), got {a.shape}")
     if not np.isfinite(a).all():
@@ -620,7 +619,8 @@ def polygon_normal(points: ArrayLike, method: str = "newell") -> NDArray[np.floa
     a = _as_numeric("points", points).astype(np.float64)
     if a.ndim != 2 or a.shape[1] != 3:
         raise ValueError(f"points: expected shape (K, 3), got {a.shape}")
-    return np.asarray(_brdfpy.polygon_normal(a.tolist(), as_str("method", method, "a method name")), dtype=np.float32)
+    n = _brdfpy.polygon_normal(a.tolist(), as_str("method", method, "a method name"))
+    return np.asarray(n, dtype=np.float32)
 
 
 def builtin_mesh(name: str) -> Mesh:

@@ -44,15 +44,20 @@ def _lobe(name: str, alpha: float, alpha_y: float | None) -> list[tuple[float, s
     return [(1.0, name, as_float("alpha", alpha), ay)]
 
 
-def _lobes(lobes: Sequence[Lobe]) -> list[tuple[float, str, float, float | None]]:
+def _lobes(lobes: Sequence[Lobe], name: str = "lobes") -> list[tuple[float, str, float, float | None]]:
+    """The lobes of a mixture (the argument ``name``, a list of ``(weight, name, alpha[, alpha_y])``)."""
+    if isinstance(lobes, (str, bytes)) or not isinstance(lobes, (list, tuple)):
+        raise TypeError(
+            f"{name}: expected a list of lobes (weight, name, alpha[, alpha_y]), got {type(lobes).__name__}"
+        )
     out = []
     for i, lobe in enumerate(lobes):
+        where = f"{name}[{i}]"
         if not isinstance(lobe, (tuple, list)) or len(lobe) not in (3, 4):
-            raise TypeError(f"lobes[{i}]: expected (weight, name, alpha[, alpha_y]), got {lobe!r}")
+            raise TypeError(f"{where}: expected (weight, name, alpha[, alpha_y]), got {lobe!r}")
         ay = lobe[3] if len(lobe) == 4 else None
         if not isinstance(lobe[1], str):
-            raise TypeError(f"lobes[{i}]: expected a distribution name, got {type(lobe[1]).__name__}")
-        where = f"lobes[{i}]"
+            raise TypeError(f"{where}: expected a distribution name, got {type(lobe[1]).__name__}")
         w, a = as_float(f"{where} weight", lobe[0]), as_float(f"{where} alpha", lobe[2])
         out.append((w, lobe[1], a, None if ay is None else as_float(f"{where} alpha_y", ay)))
     return out

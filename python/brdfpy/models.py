@@ -58,9 +58,9 @@ def model_info(name: str) -> ModelInfo:
     Returns
     -------
     dict
-        ``name``, ``summary`` (with the formula), ``source`` (seed and/or paper), ``physical`` (a BRDF in
-        1/sr that is reciprocal and energy-conserving, as opposed to a course formula offered as written),
-        ``anisotropic`` (reads the tangent) and ``params``: a list of dicts with ``name``, ``kind``
+        ``name``, ``summary`` (with the formula), ``source`` (the published paper or book), ``physical`` (a
+        BRDF in 1/sr that is reciprocal and energy-conserving, as opposed to a textbook formula offered as
+        written), ``anisotropic`` (reads the tangent) and ``params``: a list of dicts with ``name``, ``kind``
         (``"scalar"``, ``"color"``, ``"choice"``, ``"bool"`` or ``"array"``), ``default``, ``min``, ``max``,
         ``unit``, ``doc`` and ``choices`` (the allowed names of a choice, else ``None``).
 

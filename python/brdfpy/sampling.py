@@ -102,6 +102,21 @@ class Chi2Result(TypedDict):
     expected: NDArray[np.float64]
 
 
+def _short(x: object) -> str:
+    r = repr(x)
+    return r if len(r) <= 80 else r[:80] + "..."
+
+
+def _returned(name: str, x: object, what: str) -> F32:
+    """What a user's callable ``name`` returned, as float32; a ``TypeError`` naming it otherwise."""
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):
+            a = np.asarray(x, dtype=np.float32)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected the callable to return {what}, got {_short(x)}") from None
+    return a
+
+
 @renamed_keywords(sample_count="samples")
 def chi2(
     model: Any,
@@ -184,10 +199,14 @@ def chi2(
             raise TypeError(f"{name}: expected a callable, got {type(fn).__name__}")
     draw: SampleFn = model.sample if sample is None else sample
     density: PdfFn = model.pdf if pdf is None else pdf
-    l, _, p = draw(vv, nn, seed=seed_arg(seed), tangent=tt, count=count)
-    valid = np.ascontiguousarray(
-        np.asarray(l, dtype=np.float32).reshape(-1, 3)[np.asarray(p).reshape(-1) > 0]
-    )
+    drawn = draw(vv, nn, seed=seed_arg(seed), tangent=tt, count=count)
+    if not isinstance(drawn, tuple) or len(drawn) != 3:
+        raise TypeError(f"sample: expected the callable to return (l, value, pdf), got {_short(drawn)}")
+    l_rows = _returned("sample", drawn[0], "directions l of shape (count, 3)").reshape(-1, 3)
+    p_rows = _returned("sample", drawn[2], "densities of shape (count,)").reshape(-1)
+    if len(p_rows) != len(l_rows):
+        raise ValueError(f"sample: returned {len(l_rows)} directions but {len(p_rows)} densities")
+    valid = np.ascontiguousarray(l_rows[p_rows > 0])
     if peak is None:
         vu, nu = vv / np.linalg.norm(vv), nn / np.linalg.norm(nn)
         pk = (2.0 * np.dot(nu, vu) * nu - vu).astype(np.float32)
@@ -195,7 +214,8 @@ def chi2(
         pk = _one_vec3("peak", peak)
 
     def claimed(points: F32) -> F32:
-        return np.ascontiguousarray(np.asarray(density(points, vv, nn, tt), dtype=np.float32).reshape(-1))
+        d = _returned("pdf", density(points, vv, nn, tt), "densities, one per direction")
+        return np.ascontiguousarray(d.reshape(-1))
 
     r = _brdfpy.chi2_test(
         valid,

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from brdfpy._arrays import _as_numeric
 from brdfpy.camera import vec3
 
 __all__ = ["UP_AXES", "identity", "rotate", "scale", "translate", "up_to_y"]
@@ -37,13 +38,17 @@ def translate(x: Any, y: float | None = None, z: float | None = None) -> M4:
 
 
 def scale(sx: Any, sy: float | None = None, sz: float | None = None) -> M4:
-    """Scaling by ``sx`` on every axis, or by ``(sx, sy, sz)``; factors must be non-zero."""
+    """Scaling by ``sx`` on every axis, by the three factors of a sequence ``sx``, or by ``(sx, sy, sz)``;
+    factors must be finite and non-zero."""
     if sy is None and sz is None:
-        s = (float(sx),) * 3 if np.ndim(sx) == 0 else vec3("factors", sx)
+        a = _as_numeric("sx", sx)  # (np.ndim would fail on a ragged list with a message naming nothing)
+        s = (float(a),) * 3 if a.ndim == 0 else vec3("sx", a)
+        name = "sx"
     else:
-        s = vec3("factors", (sx, sy, sz))
+        s = vec3("(sx, sy, sz)", (sx, sy, sz))
+        name = "(sx, sy, sz)"
     if not all(math.isfinite(v) and v != 0 for v in s):
-        raise ValueError(f"factors: must be finite and non-zero, got {list(s)}")
+        raise ValueError(f"{name}: scale factors must be finite and non-zero, got {list(s)}")
     return np.diag([s[0], s[1], s[2], 1.0])
 
 

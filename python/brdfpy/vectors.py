@@ -20,7 +20,9 @@ __all__ = ["from_spherical", "halfway", "reflect", "refract", "to_spherical"]
 def reflect(w: ArrayLike, n: ArrayLike) -> NDArray[np.float32]:
     """Mirror direction of ``w`` about the normal: ``r = 2(n̂·w)n̂ − w``, ``n̂ = n/|n|`` (pbrt-v4 ``Reflect``).
 
-    ``w`` keeps its length (a unit ``w`` gives a unit ``r``); a zero-length ``n`` gives 0.
+    ``w`` keeps its length (a unit ``w`` gives a unit ``r``): a ``w`` longer than ``f32::MAX / 4``
+    (8.5e37), whose mirror image would overflow float32, is refused with a ``ValueError`` naming ``w`` and
+    the index. ``n`` may have any finite length; a zero-length ``n`` gives 0.
     """
     return _brdfpy.reflect(as_vectors("w", w), as_vectors("n", n))
 

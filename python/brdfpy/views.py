@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import _as_numeric, as_float, as_int
+from brdfpy._arrays import _as_numeric, as_float, as_int, as_str
 from brdfpy.image import Image
 from brdfpy.measured import Tabulated
 from brdfpy.mesh import Mesh
@@ -116,18 +116,16 @@ def _models(models: object) -> tuple[list[Model], bool]:
 
 
 def _number(name: str, x: object) -> float:
-    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
-    v = float(x)
+    v = as_float(name, x)
     if not math.isfinite(v):
         raise ValueError(f"{name}: must be finite, got {v}")
     return v
 
 
 def _int(name: str, x: object) -> int:
-    if isinstance(x, bool) or not isinstance(x, (int, np.integer)):
-        raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
-    return int(x)
+    # Any 64-bit integer: the compiled module checks the range of each count and names it (beyond 64 bits
+    # its conversion would raise OverflowError, naming nothing).
+    return as_int(name, x, -(2**63), 2**63 - 1)
 
 
 def _theta_i(x: object) -> float:
@@ -281,8 +279,8 @@ def lobe(
             math.radians(p),
             _int("n_theta", n_theta),
             _int("n_phi", n_phi),
-            radius,
-            channel,
+            as_str("radius", radius, '"f" or "f_cos"'),
+            as_str("channel", channel, '"luminance", "r", "g" or "b"'),
         )
         mesh = Mesh(verts, faces)
         out.append(
@@ -321,8 +319,17 @@ class HalfDiffSlice:
         the lowest colours), ``low`` its 0.5th percentile but at most ``decades`` decades below ``high``. A
         fixed floor (``high · 10⁻⁴``) would spend most colours on values the slice does not hold: a diffuse
         term plus a highlight spans about one decade and showed as one flat colour. A constant slice gets
-        ``(high / 10, high)``; an all-zero one ``(0, 0)``."""
-        z = self.luminance if z is None else np.asarray(z)
+        ``(high / 10, high)``; an all-zero one ``(0, 0)``. ``z``, when given, has the slice's shape
+        ``(n_d, n_h)`` (e.g. one channel of :attr:`values`); ``decades`` is a positive number."""
+        if z is None:
+            z = self.luminance
+        else:
+            z = _as_numeric("z", z)
+            if z.shape != self.valid.shape:
+                raise ValueError(f"z: expected the slice's shape {self.valid.shape}, got {z.shape}")
+        decades = as_float("decades", decades)
+        if not (math.isfinite(decades) and decades > 0):
+            raise ValueError(f"decades: must be a positive finite number, got {decades}")
         vals = z[self.valid]
         vals = vals[np.isfinite(vals) & (vals > 0)]
         if vals.size == 0:
@@ -613,10 +620,13 @@ def lit_sphere(
         lv = _as_numeric("light", (1.0, 1.0, 1.0) if light is None else light).astype(np.float64)
     if lv.shape != (3,) or not np.all(np.isfinite(lv)) or not np.any(lv != 0):
         raise ValueError(f"light: expected 3 finite numbers, not all zero, got {light!r}")
-    axis = np.asarray(tangent_axis, dtype=np.float64)
+    axis = _as_numeric("tangent_axis", tangent_axis).astype(np.float64)
     if axis.shape != (3,) or not np.all(np.isfinite(axis)) or not np.any(axis != 0):
         raise ValueError(f"tangent_axis: expected 3 finite numbers, not all zero, got {tangent_axis!r}")
-    bg = np.broadcast_to(np.asarray(background, dtype=np.float64), (3,))
+    bg = _as_numeric("background", background).astype(np.float64)
+    if bg.shape not in ((), (1,), (3,)):
+        raise ValueError(f"background: expected a number or 3 numbers (linear RGB), got shape {bg.shape}")
+    bg = np.broadcast_to(bg, (3,))
     if not isinstance(tonemap, str) or tonemap.lower() not in SPHERE_TONEMAPS:
         raise ValueError(f"tonemap: expected one of {', '.join(SPHERE_TONEMAPS)}, got {tonemap!r}")
     op = tonemap.lower()

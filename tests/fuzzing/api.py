@@ -396,8 +396,10 @@ def _quad(r: random.Random, hostile: bool) -> Any:
 
 def _env_image(r: random.Random, hostile: bool) -> Any:
     """An (H, W, 3) radiance map: small and non-negative, or with poison, wrong shape or dtype."""
-    a = np.asarray([[[r.uniform(0.0, 2.0) for _ in range(3)] for _ in range(r.randint(2, 8))]
-                    for _ in range(r.randint(1, 4))], dtype=np.float32)
+    h, w = r.randint(1, 4), r.randint(2, 8)  # (drawn once: a list of rows of several widths is ragged)
+    a = np.asarray(
+        [[[r.uniform(0.0, 2.0) for _ in range(3)] for _ in range(w)] for _ in range(h)], np.float32
+    )
     if not hostile:
         return a
     k = r.randrange(5)

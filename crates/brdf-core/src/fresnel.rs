@@ -1,27 +1,27 @@
 //! Fresnel reflectance: exact dielectric (s, p, unpolarised), exact conductor with a complex index
-//! of refraction, Schlick's approximation, F0 ↔ IOR, the metal F0 table of seeds 001/004, Cook and
+//! of refraction, Schlick's approximation, F0 ↔ IOR, a table of metal F0 colours (Hoffman 2010), Cook and
 //! Torrance's colour-shift interpolation, and the reflected/transmitted split at a smooth interface.
 //!
 //! Every function returns a *power* ratio in [0, 1] (dimensionless). Cosines are of the angle
 //! between the incident direction and the (micro)surface normal; in a microfacet BRDF that is
-//! `c = v·h = l·h` (seed 001 "Fresnel term F"; Walter et al. 2007 eq. 22).
+//! `c = v·h = l·h` (Walter et al. 2007 eq. 22).
 //!
-//! # Which form and why (seeds vs physics)
+//! # Which form and why (course texts vs physics)
 //! - Dielectric: the s/p form `R = (R_s + R_p)/2` with `R_s = ((cos_i − η cos_t)/(cos_i + η cos_t))²`,
-//!   `R_p = ((η cos_i − cos_t)/(η cos_i + cos_t))²` (seeds 001, 002; pbrt-v4 `FrDielectric`). It is
+//!   `R_p = ((η cos_i − cos_t)/(η cos_i + cos_t))²` (Born & Wolf, *Principles of Optics*, §1.5; pbrt-v4 `FrDielectric`). It is
 //!   *algebraically identical* to Cook and Torrance's
 //!   `F = ½ (g−c)²/(g+c)² · [1 + (c(g+c) − 1)² / (c(g−c) + 1)²]`, `g = √(η² + c² − 1)`, because
-//!   `g = η cos_t` (notes (b3); [`dielectric_cook_torrance`] evaluates that form and the tests check
-//!   the equality). The seeds print three slips of that form, none of which we follow:
-//!   seed 004 writes `g = √(n² + c²) − 1` (the −1 belongs under the root); seed 004's shader clamps
+//!   `g = η cos_t` ([`dielectric_cook_torrance`] evaluates that form and the tests check
+//!   the equality). Course texts print three slips of that form, none of which we follow:
+//!   `g = √(n² + c²) − 1` (the −1 belongs under the root); a shader that clamps
 //!   `g²` to `[1e−6, 1]` (wrong for any `η > 1` away from grazing) and uses `(c(g+c)+1)²` in the
-//!   denominator; seed 001 writes `[c(g−c) − 1]²` in the denominator. The correct denominator is
+//!   denominator; `[c(g−c) − 1]²` in the denominator. The correct denominator is
 //!   `[c(g−c) + 1]²` (Cook & Torrance 1982; Walter et al. 2007 eq. 22).
-//! - Conductor: `n − iκ` as in seed 001 (the sign convention of the imaginary part does not change
+//! - Conductor: `n − iκ` (the sign convention of the imaginary part does not change
 //!   the reflectance), evaluated with the closed form for `|r_s|²`, `|r_p|²` that pbrt-v3
-//!   `FrConductor` and Mitsuba's `fresnel_conductor` use (K. D. Möller, *Optics*); it equals seed
-//!   001's unpolarised `a², b²` form.
-//! - Schlick: `F0 + (1 − F0)(1 − cos)^5` (Schlick 1994; seeds 001, 002).
+//!   `FrConductor` and Mitsuba's `fresnel_conductor` use (K. D. Möller, *Optics*); it equals the
+//!   unpolarised `a², b²` form of the textbooks.
+//! - Schlick: `F0 + (1 − F0)(1 − cos)^5` (Schlick 1994).
 
 use glam::{Vec3, Vec3A};
 
@@ -33,9 +33,9 @@ use crate::vector::{reflect, refract};
 /// `cos_i` = cos θ_i of the incident direction with the normal on the *outside*; `eta` = η_t/η_i =
 /// η_inside/η_outside (e.g. 1.5 for air → glass). `cos_i < 0` means the light arrives from inside:
 /// η → 1/η and cos_i → −cos_i (pbrt-v4 `FrDielectric`). Total internal reflection gives `(1, 1)`.
-/// Grazing incidence (`cos_i = 0`) gives `(1, 1)` for every η (seed 001 "Remarks"). `eta` must be
+/// Grazing incidence (`cos_i = 0`) gives `(1, 1)` for every η. `eta` must be
 /// finite and > 0; for other values the result is `(0, 0)` (no interface is defined; the bindings
-/// refuse such input). Source: Fresnel equations as in seeds 001 and 002.
+/// refuse such input). Source: the Fresnel equations (Born & Wolf, *Principles of Optics*, §1.5).
 #[inline]
 pub fn dielectric_sp(cos_i: f32, eta: f32) -> (f32, f32) {
     dielectric_sp_lanes(cos_i, eta)
@@ -94,7 +94,7 @@ pub fn dielectric_rgb_lanes<F: Lane>(cos_i: F, eta: Vec3) -> V3<F> {
     V3 { x, y: dielectric_lanes(cos_i, eta.y), z: dielectric_lanes(cos_i, eta.z) }
 }
 
-/// Cook and Torrance's form of the exact dielectric Fresnel term (Cook & Torrance 1982; notes (b3)):
+/// Cook and Torrance's form of the exact dielectric Fresnel term (Cook & Torrance 1982):
 /// `F = ½ (g−c)²/(g+c)² · [1 + (c(g+c) − 1)² / (c(g−c) + 1)²]`, `g = √(η² + c² − 1)`, `c = |cos_i|`.
 ///
 /// Light is taken to arrive from the side η is relative to (no inside flip: pass 1/η yourself);
@@ -115,7 +115,7 @@ pub fn dielectric_cook_torrance(cos_i: f32, eta: f32) -> f32 {
 }
 
 /// Exact conductor Fresnel reflectance for s- and p-polarised light, per channel, for the complex
-/// relative index `η − iκ` (seed 001; the sign of the imaginary part does not change the result).
+/// relative index `η − iκ` (the sign of the imaginary part does not change the result).
 ///
 /// `cos_i` is taken as `|cos_i|` (a conductor is only lit from outside). `eta` > 0, `k` ≥ 0 per
 /// channel. With `k = 0` this is the dielectric result (without TIR, since light comes from outside).
@@ -191,7 +191,7 @@ pub fn conductor_scalar(cos_i: f32, eta: f32, k: f32) -> f32 {
     conductor(cos_i, Vec3::splat(eta), Vec3::splat(k)).x
 }
 
-/// Schlick's approximation `F = F0 + (1 − F0)(1 − |cos_i|)⁵` (Schlick 1994; seeds 001, 002), per
+/// Schlick's approximation `F = F0 + (1 − F0)(1 − |cos_i|)⁵` (Schlick 1994), per
 /// channel. `|cos_i|` is clamped to [0, 1]. Valid from the optically thinner side; inside a denser
 /// medium use [`dielectric`] (Schlick's form has no η and cannot show total internal reflection).
 /// The fifth power is four multiplications, no `powf`.
@@ -223,7 +223,7 @@ pub fn schlick_scalar(cos_i: f32, f0: f32) -> f32 {
 }
 
 /// Reflectance at normal incidence of a dielectric of relative index η: `F0 = ((η − 1)/(η + 1))²`
-/// (seed 001 "Wavelength λ"). 0.04 for η = 1.5. Non-positive or non-finite η gives 0.
+/// (Born & Wolf, §1.5). 0.04 for η = 1.5. Non-positive or non-finite η gives 0.
 #[inline]
 pub fn f0_from_ior(eta: f32) -> f32 {
     if !(eta > 0.0) || !eta.is_finite() {
@@ -234,7 +234,7 @@ pub fn f0_from_ior(eta: f32) -> f32 {
 }
 
 /// Relative index of the dielectric whose normal-incidence reflectance is `f0`:
-/// `η = (1 + √F0)/(1 − √F0)` (seed 001), the root ≥ 1 of [`f0_from_ior`]. `f0` is clamped to
+/// `η = (1 + √F0)/(1 − √F0)`, the root ≥ 1 of [`f0_from_ior`]. `f0` is clamped to
 /// [0, 1]; `f0 = 1` gives `+∞` (a perfect mirror has no finite index).
 #[inline]
 pub fn ior_from_f0(f0: f32) -> f32 {
@@ -243,7 +243,7 @@ pub fn ior_from_f0(f0: f32) -> f32 {
 }
 
 /// Extinction coefficient κ that, with η = 1, gives a conductor the normal-incidence reflectance `f0`:
-/// `κ = 2√F0/√(1 − F0)` (pbrt-v4 `ConductorMaterial`; notes (b6)). Lets [`conductor`] be driven by an
+/// `κ = 2√F0/√(1 − F0)` (pbrt-v4 `ConductorMaterial`). Lets [`conductor`] be driven by an
 /// F0 colour alone. `f0` is clamped to [0, 0.9999] so κ stays finite (pbrt-v4 issue #222: F0 = 1
 /// gave NaN there).
 #[inline]
@@ -252,14 +252,15 @@ pub fn conductor_k_from_f0(f0: Vec3) -> Vec3 {
     2.0 * f0.sqrt() / (Vec3::ONE - f0).sqrt()
 }
 
-/// The metal F0 table of seeds 001 ("Fresnel – base specular color") and 004: linear-RGB reflectance
+/// A table of metal F0 colours (N. Hoffman, "Physics and Math of Shading", SIGGRAPH 2010/2012 course):
+/// linear-RGB reflectance
 /// at normal incidence, as (lower-case chemical symbol, F0).
 ///
-/// The values are the seeds' verbatim (they match N. Hoffman, "Physics and Math of Shading",
-/// SIGGRAPH 2010/2012 course; the seeds' sRGB column is their sRGB encoding, which we checked to ±1).
+/// The values are Hoffman's linear-RGB column verbatim (his sRGB column is their sRGB encoding, which
+/// we checked to ±1).
 /// **Gold's red channel, 1.022, exceeds 1**: no reflectance can; it is an artefact of projecting the
 /// measured spectrum into the linear-sRGB gamut (the sRGB column clips it to 255). We keep the
-/// printed value here so the table is the seed's, and clamp to ≤ 1 where a model needs a
+/// published value here so the table is Hoffman's, and clamp to ≤ 1 where a model needs a
 /// reflectance ([`metal_f0_clamped`]).
 pub const METAL_F0: [(&str, Vec3); 11] = [
     ("ti", Vec3::new(0.542, 0.497, 0.449)),
@@ -316,7 +317,7 @@ pub fn color_shift_reference(f0: Vec3) -> f32 {
 }
 
 /// Cook and Torrance's colour-shift approximation of a spectrally varying Fresnel term
-/// (Cook & Torrance 1982; seed 001 "Fresnel – base specular color"; seed 004 "Cook-Torrance (14)–(15)"):
+/// (Cook & Torrance 1982):
 ///
 /// 1. the measured normal-incidence reflectance of a reference wavelength `f0_ref` gives an index
 ///    `η_ref = (1 + √F0_ref)/(1 − √F0_ref)` ([`ior_from_f0`]);
@@ -326,8 +327,8 @@ pub fn color_shift_reference(f0: Vec3) -> f32 {
 ///
 /// So `F(0) = f0` exactly and `F(90°) = 1` for every channel, with one Fresnel evaluation instead of
 /// one per channel. `f0_ref` is clamped to [0, 0.9999] (at 1 the curve is flat and the ratio 0/0).
-/// Seed 004's shader also multiplies by the mean of per-channel F and interpolates towards the
-/// *light* colour; we return the reflectance only, as seed 001 writes it.
+/// Some course shaders also multiply by the mean of per-channel F and interpolate towards the
+/// *light* colour; we return the reflectance only.
 #[inline]
 pub fn color_shift(cos_i: f32, f0: Vec3, f0_ref: f32) -> Vec3 {
     let f0_ref = f0_ref.clamp(0.0, 0.9999);
@@ -350,8 +351,8 @@ pub fn color_shift_with_ior_lanes<F: Lane>(cos_i: F, f0: Vec3, f0_ref: f32, eta_
     V3::splat(f0) + V3::splat(Vec3::ONE - f0).scale(w)
 }
 
-/// What happens to light meeting a smooth dielectric interface (seed 001 "Ideal (mirror)
-/// reflection", "Refraction"; seed 003): reflected and transmitted power fractions and directions.
+/// What happens to light meeting a smooth dielectric interface (Pharr et al., PBR 4th ed., §9.3–9.5):
+/// reflected and transmitted power fractions and directions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FresnelSplit {
     /// Reflected power fraction R (unpolarised exact Fresnel), in [0, 1].

@@ -1,6 +1,5 @@
 //! Shadowing–masking terms `G(l, v)` (dimensionless, in [0, 1]) for microfacet BRDFs
-//! (seed 001 "Geometric term G", "G alternative (GGX)", "Cheap G"; seed 002 "Geometric
-//! Attenuation"; seed 004 "Cook-Torrance (9)–(10)"; notes (b5), (b6)).
+//! (Torrance & Sparrow 1967; Cook & Torrance 1982; Walter et al. 2007; Heitz 2014).
 //!
 //! - V-groove (Torrance & Sparrow 1967; Cook & Torrance 1982):
 //!   `G = min(1, 2(n·h)(n·v)/(v·h), 2(n·h)(n·l)/(v·h))` (`v·h = l·h` for reflection).

@@ -383,7 +383,7 @@ pub fn hemisphere_rule(peak: Vec3A, q: &Quadrature) -> Result<Vec<(Vec3A, f64)>,
 }
 
 /// Normalisation of a microfacet distribution: `∫_{H²} D(h) (n·h) dω_h`, which is 1 for a normalised
-/// `D` (projected microfacet area = macro-surface area; Walter et al. 2007 eq. 4; notes (b1)).
+/// `D` (projected microfacet area = macro-surface area; Walter et al. 2007 eq. 4).
 ///
 /// `d` receives the local microfacet normal `h` (z = normal, x = tangent) and returns `D(h)` [1/sr].
 /// The quadrature is graded toward the pole and the tangent axes (see [`hemisphere_integral`]).

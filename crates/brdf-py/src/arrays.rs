@@ -11,6 +11,7 @@ use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArray2, PyReadonlyArrayDyn, Py
 use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
+use pyo3::types::PyTuple;
 
 use crate::errors::{invalid, to_py};
 
@@ -152,10 +153,26 @@ impl OutElem for bool {
     }
 }
 
+/// Outputs of at least this many bytes are allocated through `numpy.zeros` ([`new_array`]).
+pub const LARGE_OUTPUT_BYTES: usize = 4 << 20;
+
 /// A new NumPy array for a batch of `shape` with elements `T`. Allocated zeroed: NumPy takes large blocks
 /// from `calloc`, i.e. fresh zero pages, so this costs no pass over memory.
-pub fn new_array<'py, T: OutElem>(py: Python<'py>, shape: &Shape) -> Bound<'py, PyArrayDyn<T::Np>> {
-    PyArrayDyn::<T::Np>::zeros(py, shape.with_item(T::ITEM), false)
+///
+/// Outputs of [`LARGE_OUTPUT_BYTES`] or more are made by calling `numpy.zeros`, whose failed allocation is
+/// a Python `MemoryError` (with the size in its message) that reaches the caller as it is: the C-API path
+/// of smaller ones would turn a failure into a panic. (The core's `MAX_BATCH_LEN` bounds the shapes that
+/// get here; the machine's memory, or a `ulimit -v`, may still be smaller.)
+pub fn new_array<'py, T: OutElem>(py: Python<'py>, shape: &Shape) -> PyResult<Bound<'py, PyArrayDyn<T::Np>>> {
+    let dims = shape.with_item(T::ITEM);
+    let bytes = dims.iter().try_fold(std::mem::size_of::<T::Np>(), |a, &d| a.checked_mul(d));
+    if bytes.is_some_and(|b| b < LARGE_OUTPUT_BYTES) {
+        return Ok(PyArrayDyn::<T::Np>::zeros(py, dims, false));
+    }
+    static ZEROS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let zeros = ZEROS.import(py, "numpy", "zeros")?;
+    let a = zeros.call1((PyTuple::new(py, &dims)?, numpy::dtype::<T::Np>(py)))?;
+    Ok(a.cast_into::<PyArrayDyn<T::Np>>()?)
 }
 
 /// A caller's array (`out=`) to write a batch of `shape` into: of `T`'s NumPy type, exactly the batch's
@@ -204,7 +221,7 @@ pub trait OutSet {
     /// The slices into them (one, or a tuple): what the core's batch fills.
     type Slices<'a>: Send;
     /// New arrays for a batch of `shape` ([`new_array`]).
-    fn alloc<'py>(py: Python<'py>, shape: &Shape) -> Self::Arrays<'py>;
+    fn alloc<'py>(py: Python<'py>, shape: &Shape) -> PyResult<Self::Arrays<'py>>;
     /// Borrow every array for writing; refused (naming `out`) when one is not writeable or overlaps an
     /// array borrowed already, i.e. an input of the same call.
     fn borrow<'py>(arrays: &Self::Arrays<'py>) -> PyResult<Self::Guards<'py>>;
@@ -232,7 +249,7 @@ impl<T: OutElem> OutSet for T {
     type Arrays<'py> = Bound<'py, PyArrayDyn<T::Np>>;
     type Guards<'py> = numpy::PyReadwriteArrayDyn<'py, T::Np>;
     type Slices<'a> = &'a mut [T];
-    fn alloc<'py>(py: Python<'py>, shape: &Shape) -> Self::Arrays<'py> {
+    fn alloc<'py>(py: Python<'py>, shape: &Shape) -> PyResult<Self::Arrays<'py>> {
         new_array::<T>(py, shape)
     }
     fn borrow<'py>(a: &Self::Arrays<'py>) -> PyResult<Self::Guards<'py>> {
@@ -249,8 +266,8 @@ macro_rules! out_set_tuple {
             type Arrays<'py> = ($(Bound<'py, PyArrayDyn<$t::Np>>,)+);
             type Guards<'py> = ($(numpy::PyReadwriteArrayDyn<'py, $t::Np>,)+);
             type Slices<'a> = ($(&'a mut [$t],)+);
-            fn alloc<'py>(py: Python<'py>, shape: &Shape) -> Self::Arrays<'py> {
-                ($(new_array::<$t>(py, shape),)+)
+            fn alloc<'py>(py: Python<'py>, shape: &Shape) -> PyResult<Self::Arrays<'py>> {
+                Ok(($(new_array::<$t>(py, shape)?,)+))
             }
             fn borrow<'py>(a: &Self::Arrays<'py>) -> PyResult<Self::Guards<'py>> {
                 Ok(($(borrow_one::<$t>(&a.$i)?,)+))
@@ -285,7 +302,7 @@ pub fn outputs<'py, T: OutSet>(
     shape: &Shape,
     fill_with: impl for<'a> FnOnce(T::Slices<'a>) -> Result<(), brdf_core::BrdfError> + Send,
 ) -> PyResult<T::Arrays<'py>> {
-    let arrays = T::alloc(py, shape);
+    let arrays = T::alloc(py, shape)?;
     fill::<T>(py, &arrays, shape.len(), fill_with)?;
     Ok(arrays)
 }

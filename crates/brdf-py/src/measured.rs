@@ -126,7 +126,7 @@ impl Tabulated {
 /// k = 1 or N; `values` `(N, 3)`). Returns a dict: values (name → float or 3-tuple), rms_log_error,
 /// epsilon, iterations, converged, samples_used.
 #[pyfunction]
-#[pyo3(signature = (name, l, v, n, values, start, fixed=None, max_iterations=200))]
+#[pyo3(signature = (name, l, v, n, values, start, fixed=None, max_iterations=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_model<'py>(
     py: Python<'py>,
@@ -137,8 +137,14 @@ pub fn fit_model<'py>(
     values: PyReadonlyArrayDyn<'py, f32>,
     start: &Bound<'py, PyDict>,
     fixed: Option<&Bound<'py, PyDict>>,
-    max_iterations: usize,
+    max_iterations: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // Any int from Python, checked here (pyo3's usize conversion would raise OverflowError naming nothing);
+    // None: 200.
+    let max_iterations = match max_iterations {
+        Some(k) => crate::errors::integer("max_iterations", k, 1, u32::MAX as i64)? as usize,
+        None => 200,
+    };
     let b = Batch::new((vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3("values", &values)?))
         .map_err(to_py)?;
     let rows = b.map(|s: (Vec3, Vec3, Vec3, Vec3)| s).to_vec().map_err(to_py)?;

@@ -288,7 +288,7 @@ impl Model {
         let q = if shade { Quantity::Shade } else { Quantity::Brdf };
         let out = match out {
             Some(o) => given_array::<Vec3>("out", o, dirs.shape())?,
-            None => new_array::<Vec3>(py, dirs.shape()),
+            None => new_array::<Vec3>(py, dirs.shape())?,
         };
         fill::<Vec3>(py, &out, dirs.len(), |o| evaluate_checked(&self.inner, &dirs, q, o))?;
         Ok(out)

@@ -16,7 +16,7 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
-use crate::errors::invalid;
+use crate::errors::integer;
 
 /// The largest thread count `set_num_threads` accepts.
 pub const MAX_THREADS: usize = 1024;
@@ -50,16 +50,14 @@ pub fn pool() -> PyResult<Arc<ThreadPool>> {
 
 /// Use `n` worker threads for large batches from now on; `None` restores the default (the number of
 /// logical CPUs, or `RAYON_NUM_THREADS` when set). Results do not depend on the thread count.
+///
+/// `n` is an `int` (or a NumPy integer) in `[1, MAX_THREADS]`, or `None`; a `bool` is refused (`True`
+/// is not a thread count), as are integers of any size outside the range (a `ValueError` naming `n`, not
+/// the `OverflowError` of a 64-bit conversion).
 #[pyfunction]
 #[pyo3(signature = (n, /))]
-pub fn set_num_threads(n: Option<i64>) -> PyResult<()> {
-    let n = match n {
-        None => None,
-        Some(k) if k >= 1 && k <= MAX_THREADS as i64 => Some(k as usize),
-        Some(k) => {
-            return Err(invalid(format!("n: expected an integer in [1, {MAX_THREADS}] or None, got {k}")));
-        }
-    };
+pub fn set_num_threads(n: &Bound<'_, PyAny>) -> PyResult<()> {
+    let n = if n.is_none() { None } else { Some(integer("n", n, 1, MAX_THREADS as i64)? as usize) };
     let p = build(n)?;
     *lock() = Some(p);
     Ok(())

@@ -83,14 +83,15 @@ pub fn face_normal(p: [Vec3; 3]) -> Vec3 {
 /// The per-edge coefficient of the quadratic normal field: `n_ij = n_i + n_j − β_ij` with
 /// `β_ij = 3 ((n_i + n_j)·δ / δ²) δ`, `δ = p_j − p_i` (symmetric in i, j).
 ///
-/// Derivation. Seed 004 writes van Overveld & Wyvill's edge interpolant as
+/// Derivation. Theoharis et al. (*Graphics and Visualization*, 2008, ch. 12) write van Overveld & Wyvill's
+/// edge interpolant as
 /// `n(s) = n_0 + s·a + s²·b`, `b = 3((n_0 + n_1)·δ/δ²) δ`, `a = n_1 − n_0 − b`; `b` is what makes the
 /// normal's average along the edge perpendicular to the edge (`∫₀¹ n(s)·δ ds = 0`), i.e. the
 /// reconstructed curve is consistent with the edge being a chord of the surface. Written in the
 /// quadratic Bernstein basis, `n(s) = n_0 (1−s)² + n_ij · s(1−s) + n_1 s²` requires exactly
 /// `n_ij = n_0 + n_1 − b` (match the `s` and `s²` coefficients). Over the triangle the field is the
 /// quadratic `n(b) = Σ_i n_i b_i² + Σ_{i<j} n_ij b_i b_j` in the barycentrics `b`, which reduces to the
-/// seed's edge interpolant on every edge, so neighbouring triangles agree along shared edges.
+/// book's edge interpolant on every edge, so neighbouring triangles agree along shared edges.
 #[inline]
 pub fn quadratic_edge_coefficient(p_i: Vec3, p_j: Vec3, n_i: Vec3, n_j: Vec3) -> Vec3 {
     let delta = p_j - p_i;

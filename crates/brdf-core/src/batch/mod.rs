@@ -7,10 +7,12 @@
 //! - **Broadcasting** ([`broadcast`]): the leading shapes combine by NumPy's rule (aligned at the
 //!   right, each size equal or 1); the output has the broadcast shape followed by the output's item
 //!   axis. A `(3,)` vector has leading shape `()`, so single vectors in give a single result out.
-//!   An input with no element is refused (`is empty`), as is a shape that does not broadcast; both
-//!   messages name the argument and show the shapes.
+//!   An input with no element is refused (`is empty`), as is a shape that does not broadcast, and a
+//!   broadcast shape of more than [`MAX_BATCH_LEN`] (2³²) elements; the messages name the argument and
+//!   show the shapes.
 //! - **Checks** ([`Check`]): every input element is checked before it is used, by default for
-//!   NaN/±∞ (a float64 value beyond the float32 range arrives as ∞); a function may ask for more
+//!   NaN/±∞ (the Python package refuses a float64 value beyond the float32 range when it converts
+//!   it, naming it, instead of letting it arrive as ∞); a function may ask for more
 //!   (cosines in `[-1, 1]`) or nothing (tone mapping takes any float). The error names the first
 //!   argument, in argument order, holding a bad element, and that argument's lowest bad index in its
 //!   own shape. Inputs as large as the output are checked chunk by chunk while the chunk is in the
@@ -55,7 +57,7 @@ mod shape;
 
 pub use eval::{Directions, Quantity, evaluate, evaluate_bxdf, evaluate_checked, evaluate_vec};
 use shape::{Layout, Odometer};
-pub use shape::{MAX_DIMS, Shape, ShapeOf, broadcast};
+pub use shape::{MAX_BATCH_LEN, MAX_DIMS, Shape, ShapeOf, broadcast};
 
 /// Below this many elements a batch runs on the calling thread (spawning costs more than it saves);
 /// the Python binding also keeps the GIL below it.

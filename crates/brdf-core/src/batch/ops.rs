@@ -26,19 +26,43 @@ pub type Numbers<'a> = (Arg<'a, f32>,);
 /// Two inputs of vectors.
 pub type Vectors2<'a> = (Arg<'a, Vec3>, Arg<'a, Vec3>);
 
+/// `w/|w|` for any finite `w`: a very long one (|w|² past the float32 range, |w| > 1.8e19) is shrunk by
+/// 2⁻¹⁰⁰ first, exactly, so that its direction is kept rather than lost to an overflow; a zero-length
+/// (or non-finite) one gives 0.
 #[inline(always)]
 fn unit(w: Vec3) -> Vec3A {
-    normalize_or_zero(w.into())
+    let a = Vec3A::from(w);
+    if a.length_squared() == f32::INFINITY && a.is_finite() {
+        return normalize_or_zero(a * SHRINK);
+    }
+    normalize_or_zero(a)
 }
+
+/// 2⁻¹⁰⁰: scales the largest float32 to 2.7e8, whose square is far from overflowing.
+const SHRINK: f32 = f32::from_bits((127 - 100) << 23);
+
+/// The longest `w` [`reflect`] takes, `f32::MAX / 4` (8.5e37): `r = 2(n̂·w)n̂ − w` computes `2(n̂·w)`,
+/// up to `2|w|`, on the way, and `r` keeps the length of `w`.
+pub const MAX_REFLECT_LENGTH: f32 = f32::MAX / 4.0;
+
+fn reflect_ok(w: Vec3) -> bool {
+    // In float64: |w|² of a finite float32 vector cannot overflow there. NaN and ±inf fail the test.
+    w.as_dvec3().length_squared() <= (MAX_REFLECT_LENGTH as f64) * (MAX_REFLECT_LENGTH as f64)
+}
+
+const REFLECT_PROBLEM: &str = "must hold finite vectors of length at most 8.5e37 (f32::MAX / 4: \
+                               the mirror direction keeps the length of w and would overflow float32 beyond it)";
 
 // ------------------------------------------------------------------------------------------- vectors
 
-/// Mirror `w` about the normal: `r = 2(n̂·w)n̂ − w` with `n̂ = n/|n|`; `w` keeps its length, a
-/// zero-length `n` gives 0. Output: vectors.
+/// Mirror `w` about the normal: `r = 2(n̂·w)n̂ − w` with `n̂ = n/|n|`; `w` keeps its length (at most
+/// [`MAX_REFLECT_LENGTH`]: a longer one is refused, naming `w`, rather than giving ∞), `n` may have any
+/// finite length, a zero-length `n` gives 0. Output: vectors.
 pub fn reflect<'a>(
     w: Arg<'a, Vec3>,
     n: Arg<'a, Vec3>,
 ) -> Result<Map<Vectors2<'a>, impl Fn((Vec3, Vec3)) -> Vec3 + Sync + Copy>, BrdfError> {
+    let w = w.check(Check::Valid { ok: reflect_ok, problem: REFLECT_PROBLEM });
     Ok(Batch::new((w, n))?.map(|(w, n): (Vec3, Vec3)| {
         let n = unit(n);
         if n == Vec3A::ZERO { Vec3::ZERO } else { core_reflect(w.into(), n).into() }
@@ -451,6 +475,33 @@ mod tests {
             refract(Arg::rows("w", &w).unwrap(), Arg::one("n", &n), Arg::rows("eta", &bad).unwrap()).unwrap();
         let e = e.to_vec::<(Vec3, bool)>().unwrap_err().to_string();
         assert!(e.starts_with("eta:") && e.contains("[1e-6, 1e6]"), "{e}");
+    }
+
+    /// reflect refuses a w so long that the mirror direction would overflow (naming w, its index and the
+    /// limit) and accepts one at the limit; the normalised inputs (n of reflect, l and v of halfway, w and
+    /// n of refract) keep their direction at any finite length instead of overflowing to 0 or inf.
+    #[test]
+    fn vector_functions_refuse_or_survive_huge_magnitudes() {
+        let n = Vec3::Z;
+        let at_limit = [Vec3::new(0.0, 0.0, MAX_REFLECT_LENGTH)];
+        let r = reflect(Arg::rows("w", &at_limit).unwrap(), Arg::one("n", &n)).unwrap().to_vec::<Vec3>().unwrap();
+        assert_eq!(r[0], at_limit[0]);
+        let w = [Vec3::new(0.6, 0.0, 0.8), Vec3::new(3e38, 0.0, 3e38)];
+        let e = reflect(Arg::rows("w", &w).unwrap(), Arg::one("n", &n)).unwrap().to_vec::<Vec3>().unwrap_err();
+        let e = e.to_string();
+        assert!(e.starts_with("w: ") && e.contains("at w[1]") && e.contains("8.5e37"), "{e}");
+        let huge_n = Vec3::new(0.0, 0.0, 3e38);
+        let r = reflect(Arg::rows("w", &w[..1]).unwrap(), Arg::one("n", &huge_n)).unwrap();
+        let r = r.to_vec::<Vec3>().unwrap();
+        assert!((r[0] - Vec3::new(-0.6, 0.0, 0.8)).length() < 1e-6, "{r:?}");
+        let (l, v) = ([Vec3::new(3e38, 0.0, 3e38)], Vec3::new(0.0, 0.0, 1e30));
+        let h = halfway(Arg::rows("l", &l).unwrap(), Arg::one("v", &v)).unwrap().to_vec::<Vec3>().unwrap();
+        let want = Vec3::new(1.0, 0.0, 1.0 + 2f32.sqrt()).normalize();
+        assert!((h[0] - want).length() < 1e-6, "{h:?}");
+        let eta = [1.0f32];
+        let t = refract(Arg::rows("w", &l).unwrap(), Arg::one("n", &huge_n), Arg::rows("eta", &eta).unwrap());
+        let t = t.unwrap().to_vec::<(Vec3, bool)>().unwrap();
+        assert!(t[0].1 && (t[0].0 - Vec3::new(-1.0, 0.0, -1.0).normalize()).length() < 1e-6, "{t:?}");
     }
 
     #[test]

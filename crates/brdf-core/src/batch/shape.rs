@@ -9,6 +9,13 @@ use crate::BrdfError;
 /// here and keeps [`Shape`] a small `Copy` value).
 pub const MAX_DIMS: usize = 32;
 
+/// The most elements one batch may have: 2³² (4 294 967 296). A broadcast shape with more is refused
+/// with an error naming the input that took it past the limit, before anything is allocated: its output
+/// alone would be 16 GiB of numbers (48 GiB of vectors), more than any machine this runs on gives one
+/// array, and the attempt would end in an allocation failure, i.e. an abort, rather than an error. Split
+/// such a batch into parts.
+pub const MAX_BATCH_LEN: usize = 1 << 32;
+
 /// The shape of a batch or of one input **without** its item axis: `(90, 360)` for a `(90, 360, 3)`
 /// array of directions, `()` for a single direction `(3,)`, `(N,)` for N rows.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
@@ -108,7 +115,8 @@ pub struct ShapeOf<'a> {
 /// The shape of a batch whose inputs have the given shapes, by NumPy's rule for the leading
 /// dimensions: align them at the right (a missing dimension counts as 1); in each position the sizes
 /// must be equal or 1, and the result has the larger one. The message names the first input that does
-/// not fit and the shape it was broadcast against.
+/// not fit and the shape it was broadcast against. A result of more than [`MAX_BATCH_LEN`] elements is
+/// refused, naming the input that took it past the limit.
 pub fn broadcast(inputs: &[ShapeOf<'_>]) -> Result<Shape, BrdfError> {
     let mut out = Shape::SCALAR;
     let mut from: Vec<&str> = Vec::new();
@@ -141,10 +149,16 @@ pub fn broadcast(inputs: &[ShapeOf<'_>]) -> Result<Shape, BrdfError> {
                 ),
             });
         }
-        if next.len() == usize::MAX {
+        if next.len() > MAX_BATCH_LEN {
+            let n = next.dims().iter().try_fold(1u128, |a, &d| a.checked_mul(d as u128));
+            let count = n.map_or_else(|| "more than 2^128".to_string(), |n| n.to_string());
             return Err(BrdfError::InvalidInput {
                 name: s.name,
-                problem: format!("broadcasting gives shape {next:?}, which has too many elements"),
+                problem: format!(
+                    "broadcasting gives shape {}, {count} elements, which is too many: a batch holds at \
+                     most {MAX_BATCH_LEN} (2^32, MAX_BATCH_LEN); split it into parts",
+                    tuple(next.dims(), s.item)
+                ),
             });
         }
         if next != out {
@@ -298,6 +312,20 @@ mod tests {
         assert!(e.starts_with("n:") && e.contains("(3, 1, 3)") && e.contains("(2, 5, 3)"), "{e}");
         let huge = usize::MAX / 2;
         assert!(bc(&[&[huge, 1], &[1, huge]]).unwrap_err().to_string().contains("too many"));
+    }
+
+    /// A batch of up to MAX_BATCH_LEN elements is accepted; one more is refused (before any allocation),
+    /// naming the input that took the shape past the limit and saying what the limit is.
+    #[test]
+    fn batches_beyond_max_batch_len_are_refused_naming_the_input() {
+        assert_eq!(MAX_BATCH_LEN, 1 << 32);
+        assert_eq!(bc(&[&[1 << 16, 1], &[1, 1 << 16]]).unwrap().len(), MAX_BATCH_LEN);
+        let e = bc(&[&[(1 << 16) + 1, 1], &[1, 1 << 16]]).unwrap_err().to_string();
+        assert!(e.starts_with("v:"), "{e}");
+        assert!(e.contains("(65537, 65536, 3)") && e.contains("4295032832 elements"), "{e}");
+        assert!(e.contains("4294967296") && e.contains("split"), "{e}");
+        let e = bc(&[&[3], &[1 << 31, 1], &[1 << 31, 1, 1]]).unwrap_err().to_string();
+        assert!(e.starts_with("v:"), "{e}");
     }
 
     /// Every layout reads, for each output element, the element NumPy's broadcasting would read.

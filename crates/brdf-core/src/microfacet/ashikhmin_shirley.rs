@@ -1,5 +1,4 @@
-//! Ashikhmin–Shirley anisotropic Phong distribution (Ashikhmin & Shirley 2000; seed 001
-//! "Ашихмин-Shirley anisotropic (2000)").
+//! Ashikhmin–Shirley anisotropic Phong distribution (Ashikhmin & Shirley 2000).
 //!
 //! Exponent `e(h) = nu cos²φ_h + nv sin²φ_h = (nu hx² + nv hy²)/(hx² + hy²)` (local frame, x = tangent).
 //! Two normalisations of `(n·h)^e` are exact, and they answer different questions:
@@ -10,7 +9,7 @@
 //!   `∫ D cosθ dω = 1` (the extra cosine raises each exponent by one); it reduces to the normalised
 //!   Blinn–Phong D for nu = nv.
 //!
-//! Seed 001 prints `√((e_x+1)(e_y+1)) (h·n)^…` without the 1/(2π) and with the pdf's constant.
+//! Some course texts print `√((e_x+1)(e_y+1)) (h·n)^…` without the 1/(2π) and with the pdf's constant.
 
 use glam::Vec3A;
 

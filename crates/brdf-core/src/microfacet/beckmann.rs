@@ -2,8 +2,8 @@
 //! Walter et al. 2007 §5.1).
 //!
 //! `D(h) = exp(−tan²θ/α²) / (π α² cos⁴θ)`, normalised so that `∫ D(h) cosθ_h dω_h = 1`.
-//! Seed 002 prints `1/(4 m² cos⁴θ)` and seed 004 `1/(m² cos⁴θ)`: both miss the π of the normalised
-//! form (the 4 of seed 002 belongs with a π in the BRDF denominator; never pair 1/(π…) with π).
+//! Course texts print `1/(4 m² cos⁴θ)` or `1/(m² cos⁴θ)`: both miss the π of the normalised
+//! form (the 4 belongs with a π in the BRDF denominator; never pair 1/(π…) with π).
 //!
 //! Smith Λ: the exact form `Λ(a) = (erf(a) − 1)/2 + exp(−a²)/(2a√π)`, `a = 1/(α tanθ)` (Walter et
 //! al. 2007 eq. 25), evaluated as `e^{−a²} (1/(a√π) − e^{a²} erfc a)/2` with the lane error

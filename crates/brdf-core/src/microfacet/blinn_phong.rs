@@ -1,8 +1,8 @@
-//! Normalised Blinn–Phong distribution `D(h) = (m + 2)/(2π) · (n·h)^m` (Blinn 1977; seed 001
-//! "Blinn-Phong (normalised)"; Walter et al. 2007 eq. 30).
+//! Normalised Blinn–Phong distribution `D(h) = (m + 2)/(2π) · (n·h)^m` (Blinn 1977;
+//! Walter et al. 2007 eq. 30).
 //!
 //! `∫ D cosθ dω = (m+2)/(2π) · 2π/(m+2) = 1` exactly. This is the *microfacet* normalisation; the
-//! BRDF normalisation `(m+8)/(8π)` of the `blinn_phong` model is a different thing (notes (b6)).
+//! BRDF normalisation `(m+8)/(8π)` of the `blinn_phong` model is a different thing (Akenine-Möller et al., *Real-Time Rendering*).
 //! Walter et al. 2007 relate the exponent to Beckmann's roughness by `m = 2/α² − 2`
 //! ([`exponent_from_alpha`]); the same relation gives a Smith Λ for this D (see `masking`).
 

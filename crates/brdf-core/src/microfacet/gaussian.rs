@@ -1,8 +1,8 @@
-//! The Gaussian distribution in the half-angle, `D(h) = c · exp(−(θ_h/m)²)` (seed 004 "Cook-Torrance
-//! (7)"; seed 001 "Fast and simple formula – Gaussian distribution"; Cook & Torrance 1982; Blinn 1977).
+//! The Gaussian distribution in the half-angle, `D(h) = c · exp(−(θ_h/m)²)` (Cook & Torrance
+//! 1982; Blinn 1977).
 //!
-//! θ_h = angle(n, h) in radians, m = RMS slope angle (roughness). The seeds leave `c` open ("c · …")
-//! and seed 001 multiplies by an extra `(n·h)`; we follow seed 004 / Cook & Torrance (no extra
+//! θ_h = angle(n, h) in radians, m = RMS slope angle (roughness). Cook & Torrance leave `c` open ("c · …"),
+//! and some course texts multiply by an extra `(n·h)`; we follow Cook & Torrance (no extra
 //! cosine) and fix `c` so that `∫ D(h) cosθ_h dω_h = 1`:
 //!
 //! `c(m) = 1 / (2π ∫₀^{π/2} exp(−θ²/m²) cosθ sinθ dθ)`.

@@ -1,9 +1,9 @@
 //! Trowbridge–Reitz / GGX distribution and its Smith Λ (Trowbridge & Reitz 1975; Walter et al. 2007;
-//! seed 001 "Trowbridge & Reitz", "GGX"; pbrt-v4 `TrowbridgeReitzDistribution`).
+//! pbrt-v4 `TrowbridgeReitzDistribution`).
 //!
 //! `D(h) = α² / (π cos⁴θ (α² + tan²θ)²) = α² / (π ((1 − cos²θ) + α² cos²θ)²)`, normalised so that
-//! `∫ D(h) cosθ_h dω_h = 1`. Seed 001's Trowbridge–Reitz line `1/(π((n·h)²(m²−1)+1)²)` lacks the
-//! numerator α² (its normalisation constant); with it the two seed forms are the same function.
+//! `∫ D(h) cosθ_h dω_h = 1`. The Trowbridge–Reitz line `1/(π((n·h)²(m²−1)+1)²)` some course texts print lacks the
+//! numerator α² (its normalisation constant); with it the two forms are the same function.
 //! We evaluate the denominator as `(1 − c²) + α²c²` rather than `c²(α² − 1) + 1`: in f32, `α² − 1`
 //! rounds to −1 for α ≲ 3e−4 and the peak would become α²/0.
 
@@ -13,7 +13,7 @@ use crate::microfacet::{ALPHA_MIN, HalfVector};
 use crate::simd::{Lane, V3};
 
 /// Isotropic GGX `D` [1/sr] at `cos_h` = n·h for roughness α (clamped to ≥ [`ALPHA_MIN`]);
-/// 0 for `cos_h ≤ 0` (the χ⁺ of seed 001).
+/// 0 for `cos_h ≤ 0` (the χ⁺ of Walter et al. 2007).
 #[inline]
 pub fn d(cos_h: f32, alpha: f32) -> f32 {
     d_lanes(cos_h, alpha)
@@ -135,7 +135,7 @@ pub fn g1(cos_theta: f32, alpha: f32) -> f32 {
 }
 
 /// Height-correlated Smith visibility of GGX, `V = G2/(4 (n·l)(n·v))` with
-/// `G2 = 1/(1 + Λ(l) + Λ(v))` (Heitz 2014; notes (b5)):
+/// `G2 = 1/(1 + Λ(l) + Λ(v))` (Heitz 2014, "Understanding the Masking-Shadowing Function"):
 /// `V = 0.5 / ((n·v) √((n·l)²(1 − α²) + α²) + (n·l) √((n·v)²(1 − α²) + α²))`.
 /// The form the Cook–Torrance hot path uses: two square roots, one division, no tan. 0 unless both
 /// cosines are positive.
@@ -171,8 +171,7 @@ fn both_positive<F: Lane>(nl: F, nv: F) -> F::Mask {
 }
 
 /// Separable Smith visibility of GGX, `V = G1(l) G1(v)/(4 (n·l)(n·v))`
-/// `= 1/((n·l + √((n·l)²(1 − α²) + α²)) (n·v + √((n·v)²(1 − α²) + α²)))` (Walter et al. 2007;
-/// notes (b5)). 0 unless both cosines are positive.
+/// `= 1/((n·l + √((n·l)²(1 − α²) + α²)) (n·v + √((n·v)²(1 − α²) + α²)))` (Walter et al. 2007). 0 unless both cosines are positive.
 #[inline]
 pub fn visibility_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
     visibility_separable_lanes(nl, nv, alpha)

@@ -1,9 +1,9 @@
 //! Microfacet distributions of normals `D(h)` [1/sr] and their Smith `Λ`, one file per distribution,
 //! plus the [`Distribution`] enum the models compose and a weighted [`Mixture`] of lobes
-//! (seed 001 "Microfacet theory" … "Mixture"; seeds 002, 004; Walter et al. 2007).
+//! (Walter et al. 2007).
 //!
 //! Every `D` is normalised so that the projected microfacet area is the macro-surface area:
-//! `∫_Ω D(h) (n·h) dω_h = 1` (notes (b1); the integration tests check it by quadrature for each
+//! `∫_Ω D(h) (n·h) dω_h = 1` (Walter et al. 2007 eq. 4; the integration tests check it by quadrature for each
 //! distribution at several roughnesses). `D` is evaluated on a unit half vector in the *local* frame
 //! (z = normal, x = tangent; see [`crate::frame`]); isotropic distributions also take `cos θ_h = n·h`
 //! directly so isotropic models need no frame.
@@ -376,8 +376,8 @@ macro_rules! lobe_sum {
 /// Most lobes a [`Mixture`] holds (fixed so a mixture is `Copy` and never allocates).
 pub const MAX_LOBES: usize = 4;
 
-/// A weighted sum of distributions `D(h) = Σ wᵢ Dᵢ(h)` with `Σ wᵢ = 1` (seed 001 "BRDF – mixture";
-/// Cook & Torrance 1982 used two Beckmann lobes for some metals). Normalisation is preserved.
+/// A weighted sum of distributions `D(h) = Σ wᵢ Dᵢ(h)` with `Σ wᵢ = 1` (Cook &
+/// Torrance 1982 used two Beckmann lobes for some metals). Normalisation is preserved.
 ///
 /// Smith Λ of the mixture is `Σ wᵢ Λᵢ` exactly: Λ is a linear functional of the slope distribution
 /// (Heitz 2014 eq. 72), and mixing D's mixes slope distributions with the same weights.

@@ -1,6 +1,6 @@
-//! Ward's elliptical Gaussian (Ward 1992; seed 001 "Isotropic Ward", "Anisotropic Ward").
+//! Ward's elliptical Gaussian (Ward 1992).
 //!
-//! Seed 001 prints `D_w(h) = exp(−tan²δ (cos²φ/αx² + sin²φ/αy²)) / (π αx αy)`. That function is the
+//! Course texts print `D_w(h) = exp(−tan²δ (cos²φ/αx² + sin²φ/αy²)) / (π αx αy)`. That function is the
 //! *slope* distribution P₂₂ (it integrates to 1 over the plane of slopes, [`slope_pdf`]), not a
 //! microfacet D: because `dω_h = cos³θ d(slope)`, `∫ P₂₂ cosθ dω_h < 1`. The normalised
 //! distribution of normals is `D = P₂₂ / cos⁴θ`, which is exactly the anisotropic Beckmann
@@ -27,7 +27,7 @@ pub fn d_iso(cos_h: f32, alpha: f32) -> f32 {
     beckmann::d(cos_h, alpha)
 }
 
-/// Seed 001's printed Ward function, the slope distribution
+/// The Ward function as course texts print it, the slope distribution
 /// `P₂₂ = exp(−(hx²/αx² + hy²/αy²)/hz²) / (π αx αy)` (per unit slope-plane area, not per steradian;
 /// hx/hz and hy/hz are the two slopes). 0 for `hz ≤ 0`.
 #[inline]
