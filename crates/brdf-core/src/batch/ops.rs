@@ -484,10 +484,12 @@ mod tests {
     fn vector_functions_refuse_or_survive_huge_magnitudes() {
         let n = Vec3::Z;
         let at_limit = [Vec3::new(0.0, 0.0, MAX_REFLECT_LENGTH)];
-        let r = reflect(Arg::rows("w", &at_limit).unwrap(), Arg::one("n", &n)).unwrap().to_vec::<Vec3>().unwrap();
+        let r =
+            reflect(Arg::rows("w", &at_limit).unwrap(), Arg::one("n", &n)).unwrap().to_vec::<Vec3>().unwrap();
         assert_eq!(r[0], at_limit[0]);
         let w = [Vec3::new(0.6, 0.0, 0.8), Vec3::new(3e38, 0.0, 3e38)];
-        let e = reflect(Arg::rows("w", &w).unwrap(), Arg::one("n", &n)).unwrap().to_vec::<Vec3>().unwrap_err();
+        let e =
+            reflect(Arg::rows("w", &w).unwrap(), Arg::one("n", &n)).unwrap().to_vec::<Vec3>().unwrap_err();
         let e = e.to_string();
         assert!(e.starts_with("w: ") && e.contains("at w[1]") && e.contains("8.5e37"), "{e}");
         let huge_n = Vec3::new(0.0, 0.0, 3e38);
