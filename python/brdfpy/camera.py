@@ -167,6 +167,8 @@ class Camera:
         half_v = math.radians(fov) / 2
         half_h = math.atan(math.tan(half_v) * a)
         half = min(half_v, half_h)
+        if not math.sin(half) > 0:  # a fovy of 1e-320 degrees rounds its half-angle to 0
+            raise ValueError(f"fovy: {fov} degrees is too small to frame anything")
         dist = r * m / math.sin(half)
         if not math.isfinite(dist):
             raise ValueError(f"radius: {r} is too large to frame (the eye would be at distance {dist})")

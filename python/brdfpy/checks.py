@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_float, as_int, as_scalars
+from brdfpy._arrays import I64_MAX, I64_MIN, as_float, as_int, as_scalars
 from brdfpy._renamed import renamed_keywords
 from brdfpy.microfacet import Lobe, _lobe, _lobes
 from brdfpy.models import Model
@@ -57,6 +57,11 @@ def _model(model: object) -> Model:
     return model  # type: ignore[return-value]
 
 
+def _samples_seed(samples: object, seed: object) -> tuple[int, int]:
+    """The sample count and seed as integers the compiled module takes (its own ranges apply after)."""
+    return as_int("samples", samples, I64_MIN, I64_MAX), as_int("seed", seed, 0, I64_MAX)
+
+
 @renamed_keywords(n="samples")
 def reciprocity_error(model: Model, samples: int = 10000, seed: int = 0) -> float:
     """Largest relative violation of Helmholtz reciprocity over ``samples`` random configurations.
@@ -66,7 +71,7 @@ def reciprocity_error(model: Model, samples: int = 10000, seed: int = 0) -> floa
     ulps (≲ 1e-6) for a reciprocal model; course formulas generally are not reciprocal. NaN if the model
     returned a non-finite value.
     """
-    return float(_brdfpy.reciprocity_error(_model(model), samples, seed))
+    return float(_brdfpy.reciprocity_error(_model(model), *_samples_seed(samples, seed)))
 
 
 @renamed_keywords(n="samples")
@@ -75,7 +80,7 @@ def positivity(model: Model, samples: int = 10000, seed: int = 0) -> float:
 
     NaN if the model returned a non-finite value.
     """
-    return float(_brdfpy.positivity(_model(model), samples, seed))
+    return float(_brdfpy.positivity(_model(model), *_samples_seed(samples, seed)))
 
 
 def directional_albedo(

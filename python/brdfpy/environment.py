@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
+from brdfpy._arrays import as_vectors
 from brdfpy._paths import as_path
 from brdfpy.lights import color3
 
@@ -154,7 +155,7 @@ class Environment:
     def radiance(self, directions: ArrayLike) -> NDArray[np.float32]:
         """Radiance arriving from each world direction (``(N, 3)`` or ``(3,)``; normalised here), float32
         with the same leading shape and 3 channels."""
-        d = np.asarray(directions, dtype=np.float32)
+        d = as_vectors("directions", directions)
         if d.shape[-1:] != (3,):
             raise ValueError(f"directions: expected shape (..., 3), got {d.shape}")
         out = self._e.radiance(np.ascontiguousarray(d.reshape(-1, 3)))

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_vectors
+from brdfpy._arrays import as_int, as_vectors
 from brdfpy._paths import as_path
 from brdfpy.models import Model, ParamValue, model
 
@@ -70,10 +70,15 @@ class Tabulated:
         """
         if not isinstance(model, _brdfpy.Model):
             raise TypeError(f"model: expected a brdfpy.Model, got {type(model).__name__}")
-        res = tuple(int(r) for r in resolution)
-        if len(res) != 3 or min(res) < 0:
-            raise ValueError(f"resolution: expected 3 non-negative integers, got {resolution!r}")
-        r3: tuple[int, int, int] = (res[0], res[1], res[2])
+        if not isinstance(resolution, (tuple, list, np.ndarray)):
+            raise TypeError(f"resolution: expected 3 integers, got {type(resolution).__name__}")
+        if len(resolution) != 3:
+            raise ValueError(f"resolution: expected 3 integers (θh, θd, φd), got {len(resolution)}")
+        r3 = (
+            as_int("resolution[0]", resolution[0], 0, 2**32),
+            as_int("resolution[1]", resolution[1], 0, 2**32),
+            as_int("resolution[2]", resolution[2], 0, 2**32),
+        )
         return cls._wrap(_brdfpy.Tabulated.from_model(model, r3))
 
     def as_model(self) -> Model:

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
+from brdfpy._arrays import I64_MAX, I64_MIN, as_float, as_int
 from brdfpy.camera import Camera
 from brdfpy.environment import Environment
 from brdfpy.image import Image
@@ -150,9 +151,19 @@ def _outputs(outputs: Any) -> list[str]:
 
 
 def _int(name: str, x: Any) -> int:
-    if isinstance(x, bool) or not isinstance(x, (int, np.integer)):
+    """An integer the compiled module can take (64-bit); its own range check names the argument after."""
+    return as_int(name, x, I64_MIN, I64_MAX)
+
+
+def _seed(name: str, x: Any) -> int:
+    """A seed in [0, 2^64) (beyond the signed 64-bit range of :func:`_int`)."""
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
         raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
-    return int(x)
+    k = int(x)
+    if not 0 <= k < 2**64:
+        shown = str(k) if k.bit_length() <= 128 else f"an integer of {k.bit_length()} bits"
+        raise ValueError(f"{name}: must lie in [0, 2^64), got {shown}")
+    return k
 
 
 class Scene:
@@ -411,11 +422,9 @@ class Scene:
         out_names = _outputs(outputs)
         if not isinstance(env_mode, str):
             raise TypeError(f"env_mode: expected 'fast' or 'monte_carlo', got {type(env_mode).__name__}")
-        env_n, seed = _int("env_samples", env_samples), _int("env_seed", env_seed)
+        env_n, seed = _int("env_samples", env_samples), _seed("env_seed", env_seed)
         if not 1 <= env_n <= 2**20:
             raise ValueError(f"env_samples: must lie in [1, 2^20], got {env_n}")
-        if not 0 <= seed < 2**64:
-            raise ValueError(f"env_seed: must lie in [0, 2^64), got {seed}")
         cb: Callable[[float], Any] | None
         if progress is True:
             cb = ProgressBar()
@@ -447,8 +456,8 @@ class Scene:
             bool(cull_back_faces),
             n,
             tonemap,
-            float(exposure),
-            None if white is None else float(white),
+            as_float("exposure", exposure),
+            None if white is None else as_float("white", white),
             ao_args,
             bool(shadows),
             cb,

@@ -116,8 +116,7 @@ def quadrature(order: int | None = None, *, n_mu: int | None = None, n_phi: int 
     if n_mu is None or n_phi is None:
         raise ValueError("quadrature: give order, or both n_mu and n_phi")
     for name, k in (("n_mu", n_mu), ("n_phi", n_phi)):
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
-            raise ValueError(f"{name}: expected a positive integer, got {k!r}")
+        as_int(name, k, 1, 2**32)
     d, w = _brdfpy.sh_quadrature(int(n_mu), int(n_phi))
     return Quadrature(d, w)
 

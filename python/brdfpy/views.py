@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import _as_numeric, as_float, as_int, as_str
+from brdfpy._arrays import _as_numeric, as_f64, as_float, as_int, as_str
 from brdfpy.image import Image
 from brdfpy.measured import Tabulated
 from brdfpy.mesh import Mesh
@@ -513,7 +513,7 @@ def albedo_table(
         # (lo, hi]: the lower bound is often a degenerate limit (roughness 0: a mirror, no lobe to integrate).
         pv = np.linspace(lo, hi, 9)[1:]
     else:
-        pv = np.asarray(values, dtype=np.float64).reshape(-1)
+        pv = as_f64("values", values).reshape(-1)
         if pv.size == 0:
             raise ValueError("values: is empty")
     t = _theta_grid(theta_i)
