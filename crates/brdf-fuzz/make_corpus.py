@@ -148,6 +148,161 @@ def mesh_files() -> dict[str, bytes]:
     }
 
 
+def _gltf_doc(with_extras: bool) -> tuple[dict[str, object], bytes]:
+    """A glTF document (one triangle; with extras: a quad, a node hierarchy, a material, a camera and a
+    KHR_lights_punctual light) and its one binary buffer."""
+    pos = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)] + ([(1.0, 1.0, 0.0)] if with_extras else [])
+    idx = [0, 1, 2] + ([2, 1, 3] if with_extras else [])
+    nrm = [(0.0, 0.0, 1.0)] * len(pos)
+    uv = [(p[0], p[1]) for p in pos]
+    blobs = [
+        struct.pack(f"<{len(idx)}H", *idx) + b"\0" * (-2 * len(idx) % 4),
+        struct.pack(f"<{3 * len(pos)}f", *[c for p in pos for c in p]),
+        struct.pack(f"<{3 * len(pos)}f", *[c for n in nrm for c in n]),
+        struct.pack(f"<{2 * len(pos)}f", *[c for t in uv for c in t]),
+    ]
+    views, offset = [], 0
+    for b in blobs:
+        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(b)})
+        offset += len(b)
+    n = len(pos)
+    accessors = [
+        {"bufferView": 0, "componentType": 5123, "count": len(idx), "type": "SCALAR"},
+        {
+            "bufferView": 1,
+            "componentType": 5126,
+            "count": n,
+            "type": "VEC3",
+            "min": [0, 0, 0],
+            "max": [1, 1, 0],
+        },
+        {"bufferView": 2, "componentType": 5126, "count": n, "type": "VEC3"},
+        {"bufferView": 3, "componentType": 5126, "count": n, "type": "VEC2"},
+    ]
+    prim: dict[str, object] = {"attributes": {"POSITION": 1, "NORMAL": 2, "TEXCOORD_0": 3}, "indices": 0}
+    doc: dict[str, object] = {
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": offset}],
+        "bufferViews": views,
+        "accessors": accessors,
+        "meshes": [{"primitives": [prim]}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0,
+    }
+    if with_extras:
+        prim["material"] = 0
+        doc["materials"] = [
+            {
+                "name": "red metal",
+                "pbrMetallicRoughness": {
+                    "baseColorFactor": [0.8, 0.1, 0.1, 1],
+                    "metallicFactor": 0.7,
+                    "roughnessFactor": 0.3,
+                },
+                "emissiveFactor": [0.1, 0.0, 0.0],
+                "alphaMode": "MASK",
+                "doubleSided": True,
+            }
+        ]
+        doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 100}}]
+        doc["extensionsUsed"] = ["KHR_lights_punctual"]
+        doc["extensions"] = {
+            "KHR_lights_punctual": {
+                "lights": [
+                    {"type": "spot", "color": [1, 0.9, 0.8], "intensity": 5, "spot": {"outerConeAngle": 0.6}}
+                ]
+            }
+        }
+        doc["nodes"] = [
+            {"children": [1, 2, 3], "rotation": [0, 0.3826834, 0, 0.9238795], "scale": [2, 2, 2]},
+            {"mesh": 0, "translation": [0, 0, -1]},
+            {"camera": 0, "translation": [0, 0, 4]},
+            {
+                "extensions": {"KHR_lights_punctual": {"light": 0}},
+                "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 3, 0, 1],
+            },
+        ]
+    return doc, b"".join(blobs)
+
+
+def gltf_files() -> dict[str, bytes]:
+    import base64
+    import json
+
+    out = {}
+    for name, extras in (("triangle", False), ("scene", True)):
+        doc, blob = _gltf_doc(extras)
+        embedded = dict(
+            doc,
+            buffers=[
+                {
+                    "byteLength": len(blob),
+                    "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode(),
+                }
+            ],
+        )
+        out[f"{name}.gltf"] = json.dumps(embedded).encode()
+        js = json.dumps(doc).encode()
+        js += b" " * (-len(js) % 4)
+        blob += b"\0" * (-len(blob) % 4)
+        body = struct.pack("<II", len(js), 0x4E4F534A) + js + struct.pack("<II", len(blob), 0x004E4942) + blob
+        out[f"{name}.glb"] = struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body
+    return out
+
+
+def _rgbe(r: float, g: float, b: float) -> bytes:
+    import math
+
+    m = max(r, g, b)
+    if m < 1e-32:
+        return b"\0\0\0\0"
+    f, e = math.frexp(m)
+    s = f * 256.0 / m
+    return bytes((int(r * s), int(g * s), int(b * s), e + 128))
+
+
+def hdr_files() -> dict[str, bytes]:
+    """Radiance RGBE: a flat 4x2 map (scanlines too short for run-length encoding), and a 16x3 map in the
+    "new" run-length encoding (per channel, packets of literal bytes and runs)."""
+    head = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n"
+    flat = b"".join(_rgbe(0.1 * x, 0.2 * y, 1.5) for y in range(2) for x in range(4))
+    rle = b""
+    for y in range(3):
+        px = [_rgbe(0.05 * x, 0.5, 2.0 * y + 0.1) for x in range(16)]
+        rle += bytes((2, 2, 0, 16))
+        for c in range(4):
+            ch = bytes(p[c] for p in px)
+            if len(set(ch)) == 1:
+                rle += bytes((128 + 16, ch[0]))  # one run of 16
+            else:
+                rle += bytes((8,)) + ch[:8] + bytes((8,)) + ch[8:]  # two literal packets
+    return {"flat_4x2.hdr": head + b"-Y 2 +X 4\n" + flat, "rle_16x3.hdr": head + b"-Y 3 +X 16\n" + rle}
+
+
+def exr_files() -> dict[str, bytes]:
+    """OpenEXR through the OpenEXR package (a dev dependency): float and half RGB, two compressions."""
+    import tempfile
+
+    import numpy as np
+    import OpenEXR
+
+    out = {}
+    for name, dtype, comp in (
+        ("float_4x2_none.exr", np.float32, OpenEXR.NO_COMPRESSION),
+        ("half_8x4_zip.exr", np.float16, OpenEXR.ZIP_COMPRESSION),
+    ):
+        h, w = (2, 4) if dtype is np.float32 else (4, 8)
+        rgb = (np.arange(h * w * 3).reshape(h, w, 3) * 0.01).astype(dtype)
+        with tempfile.TemporaryDirectory() as d:
+            path = f"{d}/{name}"
+            header = {"compression": comp, "type": OpenEXR.scanlineimage}
+            with OpenEXR.File(header, {"RGB": rgb}) as f:
+                f.write(path)
+            out[name] = Path(path).read_bytes()
+    return out
+
+
 def main() -> None:
     for target, files in (
         ("obj", obj_files()),
@@ -155,6 +310,9 @@ def main() -> None:
         ("stl", stl_files()),
         ("merl", merl_files()),
         ("mesh", mesh_files()),
+        ("gltf", gltf_files()),
+        ("hdr", hdr_files()),
+        ("exr", exr_files()),
     ):
         d = OUT / target
         d.mkdir(parents=True, exist_ok=True)

@@ -25,7 +25,7 @@ fn usage() -> ExitCode {
          [--artifacts DIR] [--max-len BYTES] [--timeout-ms T] [--record]\n       \
          brdf-fuzz campaign [--targets a,b] [--execs N] [--chunk N] [--jobs J] [--chunk-timeout S] \
          [--seed K] [--artifacts DIR] [--json FILE]\n       brdf-fuzz replay <target> FILE...\n\
-         targets: obj, ply, stl, merl, mesh"
+         targets: obj, ply, stl, merl, mesh, gltf, hdr, exr"
     );
     ExitCode::from(2)
 }

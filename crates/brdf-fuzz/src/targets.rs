@@ -8,6 +8,7 @@
 //! [`Violation`] so that the driver records the input like a panic.
 
 use brdf_core::measured::Tabulated;
+use brdf_raster::environment;
 use brdf_raster::io::{self, MeshFormat};
 use brdf_raster::{Mesh, RasterError};
 use glam::{Mat4, Vec3};
@@ -38,11 +39,26 @@ pub enum Target {
     Merl,
     /// `brdf_raster::Mesh::new` (+ colors, transform, normals, statistics) on arbitrary arrays.
     Mesh,
+    /// `brdf_raster::io::load_gltf_bytes`: glTF 2.0 JSON (data URIs) or GLB.
+    Gltf,
+    /// `brdf_raster::environment::file::load_bytes` on a `.hdr` (Radiance RGBE) environment map.
+    Hdr,
+    /// `brdf_raster::environment::file::load_bytes` on a `.exr` (OpenEXR) environment map.
+    Exr,
 }
 
 impl Target {
     /// Every target, in the order the driver runs them.
-    pub const ALL: [Target; 5] = [Target::Obj, Target::Ply, Target::Stl, Target::Merl, Target::Mesh];
+    pub const ALL: [Target; 8] = [
+        Target::Obj,
+        Target::Ply,
+        Target::Stl,
+        Target::Merl,
+        Target::Mesh,
+        Target::Gltf,
+        Target::Hdr,
+        Target::Exr,
+    ];
 
     /// The target's name on the command line and its corpus folder.
     pub fn name(self) -> &'static str {
@@ -52,6 +68,9 @@ impl Target {
             Target::Stl => "stl",
             Target::Merl => "merl",
             Target::Mesh => "mesh",
+            Target::Gltf => "gltf",
+            Target::Hdr => "hdr",
+            Target::Exr => "exr",
         }
     }
 
@@ -68,6 +87,9 @@ impl Target {
             Target::Stl => mesh_file(data, MeshFormat::Stl),
             Target::Merl => merl(data),
             Target::Mesh => mesh_arrays(data),
+            Target::Gltf => gltf(data),
+            Target::Hdr => environment(data, "<memory>.hdr"),
+            Target::Exr => environment(data, "<memory>.exr"),
         }
     }
 }
@@ -90,6 +112,70 @@ fn mesh_file(data: &[u8], format: MeshFormat) -> Result<Outcome, Violation> {
         Err(e @ RasterError::File { .. }) => check_message(&e.to_string(), "<memory>: "),
         Err(e) => violation(format!("a reader returned a non-file error: {e}")),
     }
+}
+
+/// A scene read holds only valid meshes with finite transforms, materials and lights.
+fn gltf(data: &[u8]) -> Result<Outcome, Violation> {
+    let scene = match io::load_gltf_bytes(data) {
+        Ok(scene) => scene,
+        Err(e @ RasterError::File { .. }) => return check_message(&e.to_string(), "<memory>: "),
+        Err(e) => return violation(format!("the glTF reader returned a non-file error: {e}")),
+    };
+    for (i, p) in scene.primitives.iter().enumerate() {
+        check_mesh(&p.mesh).map_err(|Violation(v)| Violation(format!("primitive {i}: {v}")))?;
+        if !p.transform.is_finite() {
+            return violation(format!("primitive {i}: transform {} is not finite", p.transform));
+        }
+        if p.material.is_some_and(|m| m >= scene.materials.len()) {
+            return violation(format!(
+                "primitive {i}: material {:?} of {}",
+                p.material,
+                scene.materials.len()
+            ));
+        }
+    }
+    // The specification bounds every factor; a reader passes on only what a material can use.
+    for (i, m) in scene.materials.iter().enumerate() {
+        let unit = |x: f32| (0.0..=1.0).contains(&x);
+        let colour = |c: f32, finite: bool| finite && c >= 0.0;
+        let valid = colour(m.base_color.min_element(), m.base_color.is_finite())
+            && unit(m.metallic)
+            && unit(m.roughness)
+            && colour(m.emissive.min_element(), m.emissive.is_finite())
+            && m.alpha_cutoff.is_finite();
+        if !valid {
+            return violation(format!("material {i} has factors out of range: {m:?}"));
+        }
+    }
+    for (i, l) in scene.lights.iter().enumerate() {
+        if !(l.intensity.is_finite() && l.position.is_finite() && l.direction.is_finite()) {
+            return violation(format!("light {i} is not finite: {l:?}"));
+        }
+    }
+    Ok(Outcome::Ok)
+}
+
+/// A map read is non-empty, finite and non-negative everywhere a renderer looks it up.
+fn environment(data: &[u8], name: &str) -> Result<Outcome, Violation> {
+    let env = match environment::file::load_bytes(name, data) {
+        Ok(env) => env,
+        Err(e @ RasterError::File { .. }) => return check_message(&e.to_string(), &format!("{name}: ")),
+        Err(e) => return violation(format!("the environment reader returned a non-file error: {e}")),
+    };
+    let (w, h) = env.map.size();
+    if w == 0 || h == 0 || env.map.texels().len() != w * h {
+        return violation(format!("a {w}x{h} map holds {} texels", env.map.texels().len()));
+    }
+    if let Some(i) = env.map.texels().iter().position(|t| !t.is_finite() || t.min_element() < 0.0) {
+        return violation(format!("texel {i} is {} (must be finite and >= 0)", env.map.texels()[i]));
+    }
+    for (u, t) in [(0.0, 0.0), (0.5, 0.5), (1.0, 1.0), (-3.0, 7.5), (0.999_999, 1e-7)] {
+        let c = env.map.lookup(u, t);
+        if !c.is_finite() || c.min_element() < 0.0 {
+            return violation(format!("lookup({u}, {t}) is {c}"));
+        }
+    }
+    Ok(Outcome::Ok)
 }
 
 fn merl(data: &[u8]) -> Result<Outcome, Violation> {

@@ -106,6 +106,9 @@ fn malformed_documents_name_the_element() {
             "extensionsRequired",
         ),
         (data_uri_document("").replace(r#""children": [0]"#, r#""children": [0, 1]"#), "nodes[1]"),
+        // gltf-json's own validation indexes this accessor unchecked (a panic before the reader's check).
+        (data_uri_document("").replace(r#""POSITION": 1"#, r#""POSITION": 7"#), "POSITION: accessor 7"),
+        (data_uri_document("").replace(r#""accessors""#, r#""accessorz""#), "POSITION: accessor 1"),
         (document(Some("quad.bin"), ""), "read from memory"),
         (document(None, ""), "buffers[0]"),
         ("{not json".to_string(), "invalid glTF"),
