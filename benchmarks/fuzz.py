@@ -180,7 +180,9 @@ def campaign(args: argparse.Namespace) -> int:
             i = position(progress)
             now = time.perf_counter()
             if i != last_i:
-                running[running.index(entry)] = (p, s, c, progress, now, i)
+                # Replace the entry (and keep the name on the new one: it is removed below when done).
+                k = running.index(entry)
+                entry = running[k] = (p, s, c, progress, now, i)
                 last_t = now
             code = p.poll()
             hung = code is None and now - last_t > args.timeout
