@@ -138,7 +138,7 @@ fn gltf(data: &[u8]) -> Result<Outcome, Violation> {
     for (i, m) in scene.materials.iter().enumerate() {
         let unit = |x: f32| (0.0..=1.0).contains(&x);
         let colour = |c: f32, finite: bool| finite && c >= 0.0;
-        let valid = colour(m.base_color.min_element(), m.base_color.is_finite())
+        let valid = m.base_color.to_array().into_iter().all(unit)
             && unit(m.metallic)
             && unit(m.roughness)
             && colour(m.emissive.min_element(), m.emissive.is_finite())

@@ -96,11 +96,19 @@ pub fn corner_average_normal(polygon: &[Vec3]) -> Vec3 {
     if count < 3 {
         return Vec3::ZERO;
     }
+    // The result is a unit vector, so the corners are computed on the polygon scaled by a power of two
+    // (exact) to unit extent: the cross products of coordinates beyond ~1e19 would overflow, those of
+    // coordinates below ~1e-19 underflow to zero.
+    let extent = polygon.iter().map(|p| p.abs().max_element()).fold(0.0, f32::max);
+    if !(extent > 0.0 && extent.is_finite()) {
+        return Vec3::ZERO;
+    }
+    let scale = 2f32.powi(-(extent.log2().floor() as i32).clamp(-126, 126));
     let mut sum = Vec3::ZERO;
     for i in 0..count {
-        let prev = polygon[(i + count - 1) % count];
-        let next = polygon[(i + 1) % count];
-        sum += corner_normal(prev, polygon[i], next).normalize_or_zero();
+        let prev = polygon[(i + count - 1) % count] * scale;
+        let next = polygon[(i + 1) % count] * scale;
+        sum += corner_normal(prev, polygon[i] * scale, next).normalize_or_zero();
     }
     sum.normalize_or_zero()
 }

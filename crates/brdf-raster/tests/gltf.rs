@@ -109,6 +109,16 @@ fn malformed_documents_name_the_element() {
         // gltf-json's own validation indexes this accessor unchecked (a panic before the reader's check).
         (data_uri_document("").replace(r#""POSITION": 1"#, r#""POSITION": 7"#), "POSITION: accessor 7"),
         (data_uri_document("").replace(r#""accessors""#, r#""accessorz""#), "POSITION: accessor 1"),
+        // Factors outside the schema's ranges (1 − metallic would weight the diffuse lobe negatively).
+        (
+            data_uri_document("").replace(r#""metallicFactor": 0.5"#, r#""metallicFactor": 4.7"#),
+            "materials[0].pbrMetallicRoughness.metallicFactor: 4.7 is outside [0, 1]",
+        ),
+        (
+            data_uri_document("").replace(r#""roughnessFactor": 0.4"#, r#""roughnessFactor": -0.3"#),
+            "roughnessFactor: -0.3",
+        ),
+        (data_uri_document("").replace("0.8, 0.4, 0.2, 1", "0.8, 1e39, 0.2, 1"), "baseColorFactor[1]: inf"),
         (document(Some("quad.bin"), ""), "read from memory"),
         (document(None, ""), "buffers[0]"),
         ("{not json".to_string(), "invalid glTF"),

@@ -240,6 +240,14 @@ pub fn polygon_normal(points: Vec<[f32; 3]>, method: &str) -> PyResult<[f32; 3]>
             )));
         }
     };
+    if !n.is_finite() {
+        // The normal is unnormalised (its length is twice an area): coordinates near 1e19 and beyond
+        // square past the float32 range.
+        return Err(invalid(
+            "points: the unnormalised normal overflows float32 (its length grows as the square of the \
+             coordinates); scale the polygon down",
+        ));
+    }
     Ok(n.to_array())
 }
 

@@ -378,7 +378,10 @@ fn decode(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, String> {
             }
         })
         .collect();
-    let materials = document.materials().map(|m| material(&m)).collect();
+    let materials = document
+        .materials()
+        .map(|m| check_factors(&m).map(|()| material(&m)))
+        .collect::<Result<Vec<_>, String>>()?;
 
     let mut scene = GltfScene {
         primitives: Vec::new(),
@@ -439,6 +442,45 @@ fn describe(e: &gltf::Error) -> String {
         gltf::Error::Binary(b) => format!("invalid GLB container: {b}"),
         other => format!("invalid glTF: {other}"),
     }
+}
+
+/// The factors of material `m` within the ranges of the glTF 2.0 schema (a file outside them is
+/// invalid: a metalness of 4.7 would make the diffuse weight 1 − metallic negative).
+fn check_factors(m: &gltf::Material<'_>) -> Result<(), String> {
+    let at = format!("materials[{}]", m.index().unwrap_or(0));
+    let pbr = m.pbr_metallic_roughness();
+    let in_unit = |what: &str, x: f32| {
+        if (0.0..=1.0).contains(&x) { Ok(()) } else { Err(format!("{at}.{what}: {x} is outside [0, 1]")) }
+    };
+    for (i, &c) in pbr.base_color_factor().iter().enumerate() {
+        in_unit(&format!("pbrMetallicRoughness.baseColorFactor[{i}]"), c)?;
+    }
+    in_unit("pbrMetallicRoughness.metallicFactor", pbr.metallic_factor())?;
+    in_unit("pbrMetallicRoughness.roughnessFactor", pbr.roughness_factor())?;
+    for (i, &c) in m.emissive_factor().iter().enumerate() {
+        in_unit(&format!("emissiveFactor[{i}]"), c)?;
+    }
+    if let Some(o) = m.occlusion_texture() {
+        in_unit("occlusionTexture.strength", o.strength())?;
+    }
+    if let Some(n) = m.normal_texture() {
+        if !n.scale().is_finite() {
+            return Err(format!("{at}.normalTexture.scale: {} is not finite", n.scale()));
+        }
+    }
+    if let Some(s) = m.emissive_strength() {
+        if !(s >= 0.0 && s.is_finite()) {
+            return Err(format!(
+                "{at}.extensions.KHR_materials_emissive_strength: {s} must be finite and >= 0"
+            ));
+        }
+    }
+    if let Some(c) = m.alpha_cutoff() {
+        if !(c >= 0.0 && c.is_finite()) {
+            return Err(format!("{at}.alphaCutoff: {c} must be finite and >= 0"));
+        }
+    }
+    Ok(())
 }
 
 fn material(m: &gltf::Material<'_>) -> GltfMaterial {
