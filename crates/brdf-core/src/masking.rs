@@ -15,7 +15,8 @@
 //!
 //! Hot paths want `G/(4 (n·l)(n·v))` (the "visibility"), see [`Masking::visibility`]: for GGX with the
 //! height-correlated Smith term it costs two square roots and one division
-//! ([`crate::microfacet::ggx::visibility_height_correlated`]).
+//! ([`crate::microfacet::ggx::visibility_height_correlated`]); for the Beckmann family two rational
+//! G1s and one division ([`crate::microfacet::beckmann::visibility_height_correlated_lanes`]).
 
 use glam::Vec3A;
 
@@ -99,13 +100,13 @@ pub fn smith_ggx_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
     smith_separable(ggx::lambda(nl, alpha), ggx::lambda(nv, alpha))
 }
 
-/// Height-correlated Smith G for isotropic Beckmann (exact erf Λ).
+/// Height-correlated Smith G for isotropic Beckmann (Walter et al. 2007 eq. 25 Λ).
 #[inline]
 pub fn smith_beckmann(nl: f32, nv: f32, alpha: f32) -> f32 {
     smith_height_correlated(beckmann::lambda(nl, alpha), beckmann::lambda(nv, alpha))
 }
 
-/// Separable Smith G for isotropic Beckmann (exact erf Λ).
+/// Separable Smith G for isotropic Beckmann (Walter et al. 2007 eq. 25 Λ).
 #[inline]
 pub fn smith_beckmann_separable(nl: f32, nv: f32, alpha: f32) -> f32 {
     smith_separable(beckmann::lambda(nl, alpha), beckmann::lambda(nv, alpha))
@@ -216,18 +217,27 @@ impl Masking {
         self.visibility_lanes(nl, nv, nh, vh, d)
     }
 
-    /// [`Masking::visibility`] on lanes: the closed GGX Smith forms for a single GGX lobe, else
-    /// [`Masking::g_cos_lanes`] `/ (4 (n·l)(n·v))`.
+    /// [`Masking::visibility`] on lanes: for a single lobe the closed Smith forms with one division
+    /// (GGX's own; the Beckmann rational G1 for Beckmann and the lobes that borrow its Λ, at their
+    /// [`Distribution::beckmann_equivalent`] roughness), else [`Masking::g_cos_lanes`] `/ (4 (n·l)(n·v))`.
     #[cfg_attr(debug_assertions, inline)]
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn visibility_lanes<F: Lane>(self, nl: F, nv: F, nh: F, vh: F, d: &Mixture) -> F {
-        if let Some(Distribution::Ggx { alpha_x, .. }) = d.as_single() {
-            match self {
-                // Both are 0 below the horizon already.
-                Masking::Smith => return ggx::visibility_height_correlated_lanes(nl, nv, *alpha_x),
-                Masking::SmithSeparable => return ggx::visibility_separable_lanes(nl, nv, *alpha_x),
-                _ => {}
+        // All four forms are 0 below the horizon already.
+        match (self, d.as_single()) {
+            (Masking::Smith, Some(Distribution::Ggx { alpha_x, .. })) => {
+                return ggx::visibility_height_correlated_lanes(nl, nv, *alpha_x);
             }
+            (Masking::SmithSeparable, Some(Distribution::Ggx { alpha_x, .. })) => {
+                return ggx::visibility_separable_lanes(nl, nv, *alpha_x);
+            }
+            (Masking::Smith, Some(single)) => {
+                return beckmann::visibility_height_correlated_lanes(nl, nv, single.beckmann_equivalent().0);
+            }
+            (Masking::SmithSeparable, Some(single)) => {
+                return beckmann::visibility_separable_lanes(nl, nv, single.beckmann_equivalent().0);
+            }
+            _ => {}
         }
         let g = self.g_cos_lanes(nl, nv, nh, vh, d);
         let zero = F::splat(0.0);

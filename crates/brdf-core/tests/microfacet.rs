@@ -240,6 +240,72 @@ fn erf_matches_reference_values() {
     }
 }
 
+/// Walter et al. 2007 eq. 25 in float64: `G1 = 1/(1 + Λ)`, `Λ = (e^{−a²}/(a√π) − erfc a)/2`, with
+/// `erf a = (2/√π) e^{−a²} Σ 2ⁿ a^{2n+1}/(1·3···(2n+1))` (Abramowitz & Stegun 7.1.6: positive terms, no
+/// cancellation; 1e−16 absolute for a ≤ 4).
+fn beckmann_g1_f64(a: f64) -> f64 {
+    let (mut term, mut sum, mut k) = (a, a, 0.0);
+    while term > 1e-18 * sum {
+        k += 1.0;
+        term *= 2.0 * a * a / (2.0 * k + 1.0);
+        sum += term;
+    }
+    let e = (-a * a).exp();
+    let erfc = 1.0 - 2.0 / PI.sqrt() * e * sum;
+    1.0 / (1.0 + (e / (a * PI.sqrt()) - erfc) / 2.0)
+}
+
+/// The rational G1 is the erf form to a few float32 ulps over its whole range, G1 = 1 where the exact
+/// value rounds to 1, and Λ(a) follows it (limits included).
+#[test]
+fn beckmann_g1_is_walters_erf_form_to_float32_precision() {
+    let mut worst = 0.0f64;
+    for i in 1..=200_000 {
+        let a = beckmann::A_ONE * i as f32 / 200_000.0;
+        let want = beckmann_g1_f64(f64::from(a));
+        let got = 1.0 / (1.0 + f64::from(beckmann::lambda_of_a(a)));
+        let (num, den) = beckmann::g1_parts_lanes(a);
+        let g1 = f64::from(num / den);
+        worst = worst.max((g1 / want - 1.0).abs()).max((got / want - 1.0).abs());
+    }
+    // scripts/fit_beckmann_g1.py: 3.7e-7 evaluated in float32 (6 ulps of 2^-24); Λ's own division adds one.
+    assert!(worst < 5e-7, "max relative error of G1 {worst:e}");
+    // Beyond A_ONE the exact G1 is within 2^-25 of 1: float32 has nothing between.
+    assert!(1.0 - beckmann_g1_f64(f64::from(beckmann::A_ONE)) < 2f64.powi(-25));
+    for a in [beckmann::A_ONE, 5.0, 1e30, f32::INFINITY] {
+        assert_eq!(beckmann::lambda_of_a(a), 0.0, "a = {a}");
+    }
+    for a in [0.0, -1.0, f32::NAN] {
+        assert_eq!(beckmann::lambda_of_a(a), f32::INFINITY, "a = {a}");
+    }
+    // Just above the horizon Λ ≈ 1/(2a√π) − 1/2, saturated at f32::MAX rather than overflowing.
+    let a = 1e-3f32;
+    let want = 1.0 / beckmann_g1_f64(f64::from(a)) - 1.0;
+    assert!((f64::from(beckmann::lambda_of_a(a)) / want - 1.0).abs() < 5e-7);
+    assert_eq!(beckmann::lambda_of_a(1e-44), f32::MAX);
+}
+
+/// The one-division visibility forms are `G/(4 (n·l)(n·v))` of the Λ forms, and 0 below the horizon.
+#[test]
+fn beckmann_visibility_forms_equal_g_over_four_cosines() {
+    for a in [0.05f32, 0.3, 1.0] {
+        for (nl, nv) in [(0.2f32, 0.9f32), (0.7, 0.4), (1.0, 1.0), (1e-3, 0.5)] {
+            let v = beckmann::visibility_height_correlated_lanes(nl, nv, a);
+            let want = masking::smith_beckmann(nl, nv, a) / (4.0 * nl * nv);
+            assert!((v - want).abs() <= 1e-6 * want, "α {a} ({nl}, {nv}): {v} vs {want}");
+            let v = beckmann::visibility_separable_lanes(nl, nv, a);
+            let want = masking::smith_beckmann_separable(nl, nv, a) / (4.0 * nl * nv);
+            assert!((v - want).abs() <= 1e-6 * want, "α {a} ({nl}, {nv}): {v} vs {want}");
+        }
+        // Both directions so close to the horizon that G1 underflows: 0, not 0/0.
+        assert_eq!(beckmann::visibility_height_correlated_lanes(1e-30f32, 1e-30, a), 0.0);
+        for (nl, nv) in [(0.0f32, 0.5f32), (0.5, -0.1), (-1.0, -1.0)] {
+            assert_eq!(beckmann::visibility_height_correlated_lanes(nl, nv, a), 0.0);
+            assert_eq!(beckmann::visibility_separable_lanes(nl, nv, a), 0.0);
+        }
+    }
+}
+
 #[test]
 fn beckmann_rational_lambda_stays_within_its_stated_error() {
     let mut worst = 0.0f32;

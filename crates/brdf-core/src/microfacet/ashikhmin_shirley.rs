@@ -51,8 +51,10 @@ pub fn d_lanes<F: Lane>(h: V3<F>, nu: f32, nv: f32) -> F {
 #[cfg_attr(debug_assertions, inline)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn normalised_power<F: Lane>(h: V3<F>, nu: f32, nv: f32, k: f32) -> F {
-    let p = F::splat(k * (0.5 * std::f32::consts::FRAC_1_PI))
-        * h.z.min(F::splat(1.0)).powf(exponent_lanes(h, nu, nv));
+    let c = h.z.min(F::splat(1.0));
+    // Isotropic: one exponent for every lane (binary powering where it is an integer).
+    let power = if nu == nv { c.powf_uniform(nu) } else { c.powf(exponent_lanes(h, nu, nv)) };
+    let p = F::splat(k * (0.5 * std::f32::consts::FRAC_1_PI)) * power;
     F::select(h.z.gt(F::splat(0.0)), p, F::splat(0.0))
 }
 

@@ -25,8 +25,8 @@ pub fn d(cos_h: f32, exponent: f32) -> f32 {
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub fn d_lanes<F: Lane>(cos_h: F, exponent: f32) -> F {
     let m = exponent.clamp(0.0, EXPONENT_MAX);
-    let d = F::splat((m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI))
-        * cos_h.min(F::splat(1.0)).powf(F::splat(m));
+    let d =
+        F::splat((m + 2.0) * (0.5 * std::f32::consts::FRAC_1_PI)) * cos_h.min(F::splat(1.0)).powf_uniform(m);
     F::select(cos_h.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 

@@ -13,7 +13,8 @@
 //! cos θ = 1, the peak `1/(πα²)` heads for overflow, and `tan²θ/α²` becomes 0/0 at the peak; a
 //! near-mirror is better rendered as a mirror.
 //!
-//! Smith `Λ`: exact for GGX ([`ggx::lambda`]) and Beckmann ([`beckmann::lambda`], erf form). The other
+//! Smith `Λ`: exact for GGX ([`ggx::lambda`]) and Beckmann ([`beckmann::lambda`], the erf form to
+//! float32 precision through a fitted rational G1). The other
 //! distributions have no closed-form Λ of their own; [`Distribution::lambda`] maps them to the
 //! Beckmann Λ of an equivalent roughness (Walter et al. 2007 §5.2): Blinn–Phong and Ashikhmin–Shirley
 //! exponents by `α = √(2/(m+2))`, the Gaussian by `α = m` (both are Gaussians in the slope for

@@ -180,8 +180,7 @@ impl Bxdf for BlinnPhong {
         let s = g.l + g.v;
         let len2 = s.dot(s);
         let nh = g.n.dot(s / len2.sqrt()).clamp(0.0, 1.0);
-        let lobe =
-            V3::splat(self.diffuse) + V3::splat(self.specular).scale(nh.powf(F::splat(self.shininess)));
+        let lobe = V3::splat(self.diffuse) + V3::splat(self.specular).scale(nh.powf_uniform(self.shininess));
         V3::select(len2.gt(F::splat(1e-20)), lobe, V3::splat(self.diffuse))
     }
 }

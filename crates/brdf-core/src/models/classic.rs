@@ -225,7 +225,7 @@ impl Bxdf for BlinnPhongClassic {
         let len2 = s.dot(s);
         let specular = g.nl.gt(zero) & len2.gt(F::splat(1e-20));
         let nh = g.n.dot(s / len2.sqrt()).max(zero);
-        let p = nh.powf(F::splat(self.shininess));
+        let p = nh.powf_uniform(self.shininess);
         V3::select(specular, diffuse + V3::splat(self.ks).scale(p), diffuse)
     }
 }

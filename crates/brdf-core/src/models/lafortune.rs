@@ -96,7 +96,7 @@ impl Lafortune {
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn power_of<F: Lane>(&self, s: F, n: f32) -> F {
         let p = match self.power {
-            LobePower::Exact => s.max(F::splat(0.0)).powf(F::splat(n)),
+            LobePower::Exact => s.max(F::splat(0.0)).powf_uniform(n),
             LobePower::Schlick => schlick_power(s, n),
         };
         F::select(s.gt(F::splat(0.0)), p, F::splat(0.0))

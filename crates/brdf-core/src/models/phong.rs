@@ -11,7 +11,7 @@ use crate::BrdfError;
 use crate::models::classic::MAX_SHININESS;
 use crate::models::{Bxdf, ModelKind};
 use crate::params::{ModelSpec, ParamSpec, Params};
-use crate::simd::{Lane, LaneGeometry, V3};
+use crate::simd::{Lane, LaneGeometry, V3, math};
 
 /// Physical Phong BRDF [1/sr]:
 ///
@@ -134,15 +134,20 @@ pub(crate) fn mirror_deficit<F: Lane>(g: &LaneGeometry<F>) -> F {
     F::splat(0.5) * (s.dot(s) + dn * dn)
 }
 
-/// `clamp(1 − d, 0, 1)^γ` for `d ≥ 0` [dimensionless], as `exp(γ·ln_1p(−d))` so that `1 − d` is never
-/// rounded to float32 (that rounding alone costs `γ·2^-25` relative, 3e-4 at γ = 10000). The only
-/// float32 errors left are those of `d`, of the product and of `exp`: a few `2^-24` times
-/// `1 + |ln result|`. `d ≥ 1` (a cosine at or below 0) gives `0^γ`: 0, or 1 for γ = 0 as `powf` has it.
+/// `clamp(1 − d, 0, 1)^γ` for `d ≥ 0` [dimensionless], never rounding `1 − d` to float32 (that
+/// rounding alone costs `γ·2^-25` relative, 3e-4 at γ = 10000). For an integer γ in [1, 2¹⁶] (the
+/// default 32) by binary powering of `1 − d` formed in float64 (`simd::math::one_minus_powi`: only
+/// the error of `d` is left), else as `exp(γ·ln_1p(−d))`, whose float32 errors are those of `d`, of
+/// the product and of `exp`: a few `2^-24` times `1 + |ln result|`. `d ≥ 1` (a cosine at or below 0)
+/// gives `0^γ`: 0, or 1 for γ = 0 as `powf` has it.
 #[cfg_attr(debug_assertions, inline)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn pow_one_minus<F: Lane>(d: F, gamma: f32) -> F {
-    // −d as d·(−1): the same bits in every lane type (see `simd`).
-    let p = (F::splat(gamma) * (d * F::splat(-1.0)).ln_1p()).exp();
+    let p = match math::integer_exponent(gamma) {
+        Some(n) => math::one_minus_powi(d, n),
+        // −d as d·(−1): the same bits in every lane type (see `simd`).
+        None => (F::splat(gamma) * (d * F::splat(-1.0)).ln_1p()).exp(),
+    };
     F::select(d.lt(F::splat(1.0)), p, F::splat(if gamma == 0.0 { 1.0 } else { 0.0 }))
 }
 

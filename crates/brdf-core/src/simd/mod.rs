@@ -207,6 +207,13 @@ pub trait Lane:
     fn powf(self, y: Self) -> Self {
         math::powf(self, y)
     }
+    /// `xʸ` for one exponent `y` shared by every lane (a model's shininess): for integer y in
+    /// [1, 2¹⁶] binary powering in float64 lanes (≤ 0.5 + 2⁻¹² ulp, a few products instead of a
+    /// logarithm and an exponential), else [`Lane::powf`]; [`Lane::powf`]'s special values either way.
+    #[inline(always)]
+    fn powf_uniform(self, y: f32) -> Self {
+        math::powf_uniform(self, y)
+    }
     /// `sin x` (≤ 1.6 ulp), x in radians; accurate for |x| ≤ 1.6 · 10⁶, in [−1, 1] for any finite x;
     /// NaN for ±∞.
     #[inline(always)]

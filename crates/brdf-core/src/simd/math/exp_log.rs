@@ -12,7 +12,15 @@
 //! truncated below 2⁻³² relative, so the float64 result is within 2⁻³⁰ of `xʸ` and one rounding to
 //! f32 gives ≤ 1 ulp (0.5 + 2⁻⁶) even for `y log₂x` near ±150; a float32 logarithm would lose
 //! `log₂|y log₂x|` bits there (up to 7), which the sharp Blinn–Phong lobes (exponents ~10³–10⁸)
-//! amplify.
+//! amplify. `powf_uniform` is `powf` for one exponent shared by every lane, as the models have it
+//! (a shininess, a lobe exponent): for integer y in [1, 2¹⁶] binary powering of the float64 x
+//! (square and multiply, ≤ 2 log₂y products instead of a logarithm, an exponential and a division).
+//! Each product rounds once, so x^k computed as x^i · x^j (i + j = k) carries at most k − 1 roundings
+//! (by induction: (i − 1) + (j − 1) + 1), a relative error below (1 + 2⁻⁵³)^y − 1 < 2⁻³⁶ for
+//! y ≤ 2¹⁶, and the one rounding to f32 gives ≤ 0.5 + 2⁻¹² ulp. No intermediate leaves float64's
+//! range unless the result leaves float32's (every x^k lies between x and x^y). `one_minus_powi` is
+//! the same binary powering of `1 − d` formed in float64 (one more rounding, within the same bound),
+//! for Phong lobes written on the mirror deficit d.
 
 use crate::simd::{Lane, Lane64};
 
@@ -200,4 +208,60 @@ fn exp2_wide<D: Lane64>(r: D) -> D {
     let lo = (c(1.0) + u) + u2 * (c(1.0 / 2.0) + u * c(1.0 / 6.0));
     let hi = (c(1.0 / 24.0) + u * c(1.0 / 120.0)) + u2 * (c(1.0 / 720.0) + u * c(1.0 / 5040.0));
     lo + u4 * (hi + u4 * c(1.0 / 40320.0))
+}
+
+/// Largest exponent [`powf_uniform`] takes by binary powering (2¹⁶: the error bound of the module
+/// docs, ≤ 32 products).
+pub(crate) const POWI_MAX: u32 = 1 << 16;
+
+/// `Some(n)` when `y` is an integer `n` in [1, [`POWI_MAX`]] (the exponents of binary powering).
+#[inline(always)]
+pub(crate) fn integer_exponent(y: f32) -> Option<u32> {
+    ((1.0..=POWI_MAX as f32).contains(&y) && y == y.floor()).then_some(y as u32)
+}
+
+/// `xⁿ` for n ≥ 1 by binary powering in float64 lanes (module docs): the lowest set bit's power of
+/// x starts the product, the higher ones multiply in.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn powi_wide<D: Lane64>(x: D, n: u32) -> D {
+    let mut n = n;
+    let mut base = x;
+    while n & 1 == 0 {
+        base = base * base;
+        n >>= 1;
+    }
+    let mut acc = base;
+    n >>= 1;
+    while n > 0 {
+        base = base * base;
+        if n & 1 == 1 {
+            acc = acc * base;
+        }
+        n >>= 1;
+    }
+    acc
+}
+
+/// `xʸ` with one exponent `y` for every lane: binary powering in float64 for integer y in
+/// [1, [`POWI_MAX`]] (≤ 0.5 + 2⁻¹² ulp, module docs), else [`powf`]. Special values as [`powf`]:
+/// −0 counts as +0, x < 0 gives NaN, NaN stays NaN, `0ʸ = 0` and `∞ʸ = ∞` for y ≥ 1.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn powf_uniform<F: Lane>(x: F, y: f32) -> F {
+    let Some(n) = integer_exponent(y) else { return powf(x, F::splat(y)) };
+    let (lo, hi) = x.abs().widen();
+    let v = F::narrow(powi_wide(lo, n), powi_wide(hi, n));
+    F::select(x.lt(F::splat(0.0)), F::splat(f32::NAN), v)
+}
+
+/// `(1 − d)ⁿ` for `d ≤ 1` and `n ≥ 1`, with `1 − d` formed in float64 (one rounding of 2⁻⁵³ relative at
+/// most) and raised by binary powering (module docs): ≤ 0.5 + 2⁻¹² ulp for n ≤ [`POWI_MAX`], the only
+/// error left being that of `d` itself. NaN for NaN d.
+#[cfg_attr(debug_assertions, inline)]
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn one_minus_powi<F: Lane>(d: F, n: u32) -> F {
+    let (lo, hi) = d.widen();
+    let one = <F::Wide as Lane64>::splat(1.0);
+    F::narrow(powi_wide(one - lo, n), powi_wide(one - hi, n))
 }

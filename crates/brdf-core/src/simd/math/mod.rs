@@ -14,6 +14,7 @@
 //! | [`Lane::log2`] | `e + ln(m) log₂e` | as `ln` | 1.74 | `exp_log.rs` |
 //! | [`Lane::ln_1p`] | Goldberg's `ln(u) x/(u − 1)` | x ≥ −1 (−∞ at −1, NaN below) | 2.38 | `exp_log.rs` |
 //! | [`Lane::powf`] | `2^(y log₂x)` in float64 lanes | x ≥ 0 (−0 is +0; NaN for x < 0) | 0.51 | `exp_log.rs` |
+//! | [`Lane::powf_uniform`] | one y for all lanes: binary powering in float64 for integer y in [1, 2¹⁶], else `powf` | as `powf` | 0.51 | `exp_log.rs` |
 //! | [`Lane::sin`], [`Lane::cos`], [`Lane::sin_cos`] | float64 Cody–Waite + Cephes | \|x\| ≤ 1.6 · 10⁶ (finite in [−1, 1] beyond; NaN at ±∞) | 1.53 | `trig.rs` |
 //! | [`Lane::tan`] | as `sin`, Cephes `tanf` | as `sin` | 2.63 | `trig.rs` |
 //! | [`Lane::asin`] / [`Lane::acos`] | Cephes `asinf` | \|x\| ≤ 1 (NaN outside) | 2.26 / 1.12 | `inverse_trig.rs` |
@@ -42,8 +43,8 @@ mod exp_log;
 mod inverse_trig;
 mod trig;
 
-pub(crate) use erf::{erf, erf_small, erfc, erfcx_large, erfinv, exp_neg_square};
-pub(crate) use exp_log::{exp, exp2, ln, ln_1p, log2, powf};
+pub(crate) use erf::{erf, erfc, erfinv};
+pub(crate) use exp_log::{exp, exp2, integer_exponent, ln, ln_1p, log2, one_minus_powi, powf, powf_uniform};
 pub(crate) use inverse_trig::{acos, asin, atan, atan2};
 pub(crate) use trig::{cos, sin, sin_cos, tan};
 

@@ -362,3 +362,108 @@ fn atan2_and_hypot_special_values_are_those_of_the_standard_library() {
         }
     }
 }
+
+/// Exponents of [`Lane::powf_uniform`]: integers of binary powering (1 … 2¹⁶) and the others, which
+/// go to `powf` (0, non-integers, negative, beyond 2¹⁶, NaN).
+const UNIFORM_EXPONENTS: [f32; 17] = [
+    1.0,
+    2.0,
+    3.0,
+    5.0,
+    20.0,
+    32.0,
+    33.0,
+    255.0,
+    799.0,
+    10_000.0,
+    65_535.0,
+    65_536.0,
+    65_537.0,
+    0.0,
+    2.5,
+    -3.0,
+    f32::NAN,
+];
+
+struct UniformSameBits;
+
+impl LaneKernel for UniformSameBits {
+    #[inline(always)]
+    fn run<F: Lane>(self) {
+        uniform_same_bits_as_f32::<F>();
+    }
+}
+
+fn uniform_same_bits_as_f32<F: Lane>() {
+    let n = SPECIALS.len();
+    for s in 0..n {
+        let a = F::from_fn(|i| SPECIALS[(s + i) % n]);
+        for y in UNIFORM_EXPONENTS {
+            let r = a.powf_uniform(y);
+            for i in 0..F::LANES {
+                let x = a.lane(i);
+                assert!(
+                    same(r.lane(i), Lane::powf_uniform(x, y)),
+                    "powf_uniform({x}, {y}) lanes {}",
+                    F::LANES
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn powf_uniform_gives_the_same_bits_in_every_lane_type_and_powf_special_values() {
+    uniform_same_bits_as_f32::<F32x8>();
+    uniform_same_bits_as_f32::<F32x4>();
+    run_widest(UniformSameBits);
+    // Special values (±0, ±∞, NaN, negative bases, 1) are powf's for every exponent; other exponents
+    // than integers in [1, 2^16] are powf itself.
+    for x in SPECIALS {
+        for y in UNIFORM_EXPONENTS {
+            let (got, want) = (Lane::powf_uniform(x, y), Lane::powf(x, y));
+            let special = x == 0.0 || x == 1.0 || x < 0.0 || !x.is_finite();
+            if special || super::integer_exponent(y).is_none() {
+                assert!(same(got, want), "powf_uniform({x}, {y}) = {got:e}, powf {want:e}");
+            }
+        }
+    }
+    assert!(same(Lane::powf_uniform(-0.0f32, 3.0), 0.0));
+    assert!(Lane::powf_uniform(-0.5f32, 2.0).is_nan());
+    assert_eq!(super::integer_exponent(65_536.0), Some(65_536));
+    assert_eq!(super::integer_exponent(65_537.0), None);
+    assert_eq!(super::integer_exponent(32.5), None);
+}
+
+#[test]
+fn powf_uniform_and_one_minus_powi_are_correctly_rounded_for_integer_exponents() {
+    // The bound of exp_log.rs: float64 binary powering within 2^-36, then one rounding: 0.5 + 2^-12 ulp.
+    let bound = 0.5 + 2f64.powi(-12);
+    let (mut worst, mut at) = (0.0, (0.0, 0.0));
+    let mut add = |x: f32, n: u32, got: f32, want: f64| {
+        let e = ulps(got, want);
+        if !(e <= worst) {
+            (worst, at) = (e, (x, n as f32));
+        }
+    };
+    let ns = [1u32, 2, 3, 5, 8, 20, 32, 33, 100, 255, 1000, 4097, 10_000, 65_535, super::exp_log::POWI_MAX];
+    let bases: Vec<f32> = spread(0.0, f32::MAX, 20_000)
+        .into_iter()
+        .chain(spread(0.5, 1.0, 20_000))
+        .chain(spread(1.0, 1.01, 5_000))
+        .collect();
+    for &x in &bases {
+        for &n in &ns {
+            add(x, n, Lane::powf_uniform(x, n as f32), f64::from(x).powf(f64::from(n)));
+        }
+    }
+    // (1 − d)^n for the deficits of Phong lobes: d in [0, 1], near 0 above all.
+    for d in spread(0.0, 1.0, 40_000) {
+        for &n in &ns {
+            add(d, n, super::one_minus_powi(d, n), (1.0 - f64::from(d)).powf(f64::from(n)));
+        }
+    }
+    assert!(worst <= bound, "{worst} ulp at {at:?}");
+    assert_eq!(super::one_minus_powi(1.0f32, 7), 0.0);
+    assert_eq!(super::one_minus_powi(0.0f32, 65_536), 1.0);
+}
