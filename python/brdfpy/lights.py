@@ -124,7 +124,8 @@ class Light:
 
     def __init__(self) -> None:
         raise TypeError(
-            "Light: is the base class; build a DirectionalLight, PointLight, SpotLight, SphereLight or RectLight"
+            "Light: is the base class; build a DirectionalLight, PointLight, SpotLight, SphereLight or "
+            "RectLight"
         )
 
     def _set_amount(self, color: Any, intensity: Any) -> tuple[float, float, float]:

@@ -369,7 +369,8 @@ class Scene:
             over the faces, instead of an estimate — self-occlusion baked in object space, not occlusion by
             the other objects; the other instances are estimated as usual).
         shadows : bool
-            Cast shadow rays toward every light (hard shadows; ``δ_j`` ∈ {0, 1}).
+            Cast shadow rays toward every point, spot and directional light (hard shadows; ``δ_j`` ∈ {0, 1}).
+            Area lights always trace their visibility (soft shadows), whatever this says.
         progress : bool or callable, optional
             ``True`` draws a progress bar on stderr; a callable receives the fraction done (0–1, increasing),
             from a worker thread with the GIL held; an exception it raises is re-raised after the render.

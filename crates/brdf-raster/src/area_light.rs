@@ -185,7 +185,7 @@ impl AreaLight {
                 (l != Vec3::ZERO && cone.pdf > 0.0).then_some(LightSample { l, distance, pdf: cone.pdf })
             }
             Self::Rect { center, edge0, edge1, two_sided, .. } => {
-                let plane = Plane::new(center, edge0, edge1);
+                let plane = Plane::new(edge0, edge1);
                 if !two_sided && !(plane.n.dot(p - center) > 0.0) {
                     return None;
                 }
@@ -225,10 +225,10 @@ impl AreaLight {
                 Some(((b - (r2 - perp2).sqrt()).max(0.0), cone.pdf))
             }
             Self::Rect { center, edge0, edge1, two_sided, .. } => {
-                let plane = Plane::new(center, edge0, edge1);
+                let plane = Plane::new(edge0, edge1);
                 let denom = l.dot(plane.n);
                 // A one-sided light is met from its front: travelling against its normal.
-                if !(denom != 0.0) || (!two_sided && denom > 0.0) {
+                if denom == 0.0 || (!two_sided && denom > 0.0) {
                     return None;
                 }
                 let t = (center - p).dot(plane.n) / denom;
@@ -262,9 +262,9 @@ impl AreaLight {
                 to.normalize_or_zero() * (PI * radius * radius / d2)
             }
             Self::Rect { center, edge0, edge1, two_sided, .. } => {
-                let plane = Plane::new(center, edge0, edge1);
+                let plane = Plane::new(edge0, edge1);
                 let side = plane.n.dot(p - center);
-                if !(side != 0.0) || (!two_sided && side < 0.0) {
+                if side == 0.0 || (!two_sided && side < 0.0) {
                     return Vec3::ZERO;
                 }
                 let corners = [
@@ -331,7 +331,7 @@ struct Plane {
 
 impl Plane {
     #[inline]
-    fn new(_center: Vec3, edge0: Vec3, edge1: Vec3) -> Self {
+    fn new(edge0: Vec3, edge1: Vec3) -> Self {
         let big_n = edge0.cross(edge1);
         let area = big_n.length();
         Self { big_n, n: big_n / area, area }

@@ -169,23 +169,23 @@ impl<'a, O: Occlusion> AreaLighting<'a, O> {
                 // The material's strategy.
                 let u = [0, 1, 2].map(|d| rng::uniform_keyed(key, row, d));
                 let bs = m.model.sample_with(&m.sampler, v, n, None, u);
-                if bs.pdf > 0.0 && bs.weight.max_element() > 0.0 {
-                    if let Some((t, pl)) = light.hit(at.p, bs.l) {
-                        if visible(bs.l, t) {
-                            sum += bs.weight * power(bs.pdf, pl);
-                        }
-                    }
+                if bs.pdf > 0.0
+                    && bs.weight.max_element() > 0.0
+                    && let Some((t, pl)) = light.hit(at.p, bs.l)
+                    && visible(bs.l, t)
+                {
+                    sum += bs.weight * power(bs.pdf, pl);
                 }
                 // The light's strategy.
                 let row_l = row.wrapping_add(1);
                 let ul = [rng::uniform_keyed(key, row_l, 0), rng::uniform_keyed(key, row_l, 1)];
-                if let Some(ls) = light.sample(at.p, ul) {
-                    if let Some(g) = Geometry::new(ls.l, v, n, None) {
-                        let fc = m.model.shade(&g);
-                        if fc.max_element() > 0.0 && visible(ls.l, ls.distance) {
-                            let pb = m.sampler.pdf(ls.l, v, n, None);
-                            sum += fc * (power(ls.pdf, pb) / ls.pdf);
-                        }
+                if let Some(ls) = light.sample(at.p, ul)
+                    && let Some(g) = Geometry::new(ls.l, v, n, None)
+                {
+                    let fc = m.model.shade(&g);
+                    if fc.max_element() > 0.0 && visible(ls.l, ls.distance) {
+                        let pb = m.sampler.pdf(ls.l, v, n, None);
+                        sum += fc * (power(ls.pdf, pb) / ls.pdf);
                     }
                 }
             }
