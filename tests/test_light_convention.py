@@ -99,5 +99,5 @@ def test_a_colored_light_renders_what_it_emits(kind):
 
 
 def test_the_base_class_is_not_a_light_by_itself():
-    with pytest.raises(TypeError, match="DirectionalLight, PointLight or SpotLight"):
+    with pytest.raises(TypeError, match="DirectionalLight, PointLight, SpotLight, SphereLight or RectLight"):
         brdfpy.Light()

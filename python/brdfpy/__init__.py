@@ -21,7 +21,15 @@ from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
 from brdfpy.camera import Camera
 from brdfpy.environment import Environment
 from brdfpy.image import Image
-from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
+from brdfpy.lights import (
+    AreaLight,
+    DirectionalLight,
+    Light,
+    PointLight,
+    RectLight,
+    SphereLight,
+    SpotLight,
+)
 from brdfpy.mesh import (
     BUILTIN_MESHES,
     InwardMeshWarning,
@@ -41,6 +49,7 @@ from brdfpy.scene import Instance, Scene
 
 __all__ = [
     "BUILTIN_MESHES",
+    "AreaLight",
     "BrdfError",
     "Camera",
     "DirectionalLight",
@@ -56,7 +65,9 @@ __all__ = [
     "ParamInfo",
     "PointLight",
     "RayCaster",
+    "RectLight",
     "Scene",
+    "SphereLight",
     "SpotLight",
     "__version__",
     "builtin_mesh",

@@ -1,4 +1,4 @@
-"""Light sources for scenes: directional, point and spot lights.
+"""Light sources for scenes: directional, point and spot lights, and sphere and rectangle area lights.
 
 Each light answers, at a surface point, from which direction ``l`` light arrives and with which
 irradiance ``E``; a render adds ``E · model.shade(l, v, n)`` per light. Angles are in **degrees**.
@@ -14,6 +14,19 @@ One convention for every light (that of glTF's ``KHR_lights_punctual`` and of th
 - **direction** is always the direction in which the light **travels** (from the light into the scene):
   ``DirectionalLight((0, -1, 0))`` shines straight down, as does ``SpotLight(p, (0, -1, 0))``. (The
   direction *toward* the light is the ``l`` of the reflectance models, what :meth:`Light.incident` returns.)
+
+Area lights (:class:`SphereLight`, :class:`RectLight`) have a surface emitting the constant radiance
+``L = color ∘ intensity`` [W/(m²·sr)]. They give soft shadows: a render estimates the light they reflect,
+``L_o = ∫ L · V(p, l) · f_r(l, v) · cos θ_l dω`` over the solid angle they subtend, by Monte Carlo with
+multiple importance sampling (Veach & Guibas 1995) between the light and the material
+(``Scene.render(area_samples=, area_seed=)``), with visibility ``V`` traced whatever ``shadows=`` says. A
+sphere of radius ``r`` fully above a surface's horizon gives the irradiance ``E = π L sin²α cos θ``
+(``sin α = r/d``, ``d`` the distance to its centre, ``θ`` the angle between the normal and the direction
+to it): the irradiance of a point light of intensity ``L · π r²`` at its centre. A rectangle's
+irradiance is Lambert's polygon formula ``E = L/2 · Σ_i γ_i n·û_i`` (``γ_i`` the angle edge ``i``
+subtends, ``û_i`` the unit normal of the plane through the point and that edge; Baum, Rushmeier &
+Winget 1989, Arvo 1995). Area lights are not geometry and the camera does not see them: to show one, add
+a mesh with ``emission=`` just inside the sphere or just behind the rectangle.
 
 Attenuation of point and spot lights (``attenuation=``):
 
@@ -35,7 +48,17 @@ from numpy.typing import ArrayLike
 from brdfpy import _brdfpy
 from brdfpy.camera import vec3
 
-__all__ = ["Attenuation", "DirectionalLight", "Light", "PointLight", "SpotLight", "color3"]
+__all__ = [
+    "AreaLight",
+    "Attenuation",
+    "DirectionalLight",
+    "Light",
+    "PointLight",
+    "RectLight",
+    "SphereLight",
+    "SpotLight",
+    "color3",
+]
 
 #: ``"inverse_square"``, ``"none"`` or polynomial coefficients ``(c1, c2, c3)``.
 Attenuation = Union[str, tuple[float, float, float], None]
@@ -70,6 +93,11 @@ def _attenuation(x: Any) -> str | tuple[float, float, float]:
     return c
 
 
+def _short(v: Any) -> Any:
+    """A float stored as float32, rounded to 6 decimals for a repr (a radius of 0.35, not 0.3499999940)."""
+    return round(v, 6) if isinstance(v, float) else v
+
+
 def _emitted(color: Any, intensity: Any) -> tuple[float, float, float]:
     """``color ∘ intensity``, both checked (finite, ≥ 0), each named in an error."""
     c, k = color3("color", color), color3("intensity", intensity)
@@ -90,12 +118,15 @@ class Light:
 
     __slots__ = ("_color", "_intensity", "_l")
 
-    _l: _brdfpy.RasterLight
+    _l: _brdfpy.RasterLight | _brdfpy.RasterAreaLight
     _color: tuple[float, float, float]
     _intensity: tuple[float, float, float]
 
     def __init__(self) -> None:
-        raise TypeError("Light: is the base class; build a DirectionalLight, PointLight or SpotLight")
+        raise TypeError(
+            "Light: is the base class; build a DirectionalLight, PointLight, SpotLight, SphereLight or "
+            "RectLight"
+        )
 
     def _set_amount(self, color: Any, intensity: Any) -> tuple[float, float, float]:
         emitted = _emitted(color, intensity)
@@ -115,13 +146,18 @@ class Light:
     @property
     def emitted(self) -> tuple[float, float, float]:
         """``color ∘ intensity``: the irradiance [W/m²] of a directional light on a surface facing it, the
-        radiant intensity [W/sr] of a point light (of a spot light on its axis)."""
+        radiant intensity [W/sr] of a point light (of a spot light on its axis), the radiance [W/(m²·sr)]
+        of an area light."""
         f = self._fields()
-        return tuple(f["color"] if f["kind"] == "directional" else f["intensity"])
+        key = {"directional": "color", "sphere": "radiance", "rect": "radiance"}.get(f["kind"], "intensity")
+        return tuple(f[key])
 
     def __new__(cls, *args: Any, **kwargs: Any) -> Light:
-        if cls is Light:
-            raise TypeError("Light is the base class: create a DirectionalLight, PointLight or SpotLight")
+        if cls is Light or cls is AreaLight:
+            raise TypeError(
+                f"{cls.__name__} is the base class: create a DirectionalLight, PointLight, SpotLight, "
+                "SphereLight or RectLight"
+            )
         return super().__new__(cls)
 
     def incident(
@@ -148,12 +184,13 @@ class Light:
         f.pop("kind")
         # The renderer's field holds color ∘ intensity; show the two as given.
         f.pop("color", None)
+        f.pop("radiance", None)
         f["color"], f["intensity"] = self._color, self._intensity
         for k in ("inner_angle", "outer_angle"):
             if k in f:
                 f[k] = round(math.degrees(f[k]), 4)
         args = ", ".join(
-            f"{k}={tuple(round(x, 6) for x in v) if isinstance(v, (list, tuple)) else v!r}"
+            f"{k}={tuple(round(x, 6) for x in v) if isinstance(v, (list, tuple)) else _short(v)!r}"
             for k, v in f.items()
         )
         return f"brdfpy.{type(self).__name__}({args})"
@@ -284,9 +321,144 @@ class SpotLight(Light):
         return tuple(self._fields()["direction"])
 
 
+class AreaLight(Light):
+    """Base class of the area lights, :class:`SphereLight` and :class:`RectLight` (see the module
+    documentation): a surface emitting the radiance ``color ∘ intensity`` [W/(m²·sr)].
+
+    :meth:`incident` gives, from the unoccluded vector irradiance ``Φ`` (Arvo 1995), ``l = Φ/|Φ|``, the
+    irradiance ``|Φ|`` on a surface facing ``l`` that sees the whole light, and the distance to the light's
+    centre (``None`` inside a sphere light or behind a one-sided rectangle)."""
+
+    __slots__ = ()
+
+    _l: _brdfpy.RasterAreaLight
+
+    @property
+    def center(self) -> tuple[float, float, float]:
+        """Centre of the light."""
+        return tuple(self._fields()["center"])
+
+
+def _length(name: str, x: Any) -> float:
+    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
+    return float(x)
+
+
+class SphereLight(AreaLight):
+    """A sphere of ``radius`` at ``center`` whose surface emits the radiance ``color ∘ intensity``
+    [W/(m²·sr)] outward (a point inside it receives nothing).
+
+    Seen from a point at distance ``d`` it fills a cone of half-angle ``α``, ``sin α = r/d``; a surface
+    that sees all of it receives ``E = π L sin²α cos θ`` (``θ`` between the normal and the direction to
+    the centre), the irradiance of a :class:`PointLight` of intensity ``L · π r²`` at the centre. Sampled
+    uniformly in that cone (Shirley, Wang & Zimmerman 1996; Pharr, Jakob & Humphreys, *Physically Based
+    Rendering* 4th ed., §6.2.4).
+
+    Parameters
+    ----------
+    center : three numbers
+    radius : float
+        > 0, in scene units.
+    intensity : number or three numbers
+        Its strength: the radiance is ``color ∘ intensity`` [W/(m²·sr)].
+    color : number or three numbers, keyword
+        The light's colour (linear RGB; a number means gray). Default white.
+    """
+
+    __slots__ = ()
+
+    def __init__(self, center: ArrayLike, radius: float, intensity: Any = 1.0, *, color: Any = 1.0) -> None:
+        c, r = vec3("center", center), _length("radius", radius)
+        self._l = _brdfpy.RasterAreaLight.sphere(c, r, self._set_amount(color, intensity))
+
+    @property
+    def radius(self) -> float:
+        """Radius of the sphere."""
+        return float(self._fields()["radius"])
+
+
+class RectLight(AreaLight):
+    """A rectangle with corners ``center ± edge0/2 ± edge1/2`` emitting the radiance ``color ∘ intensity``
+    [W/(m²·sr)] on the side of its :attr:`normal` ``edge0 × edge1`` (on both with ``two_sided=True``).
+
+    The edges need not be perpendicular (a parallelogram works the same); they must not be parallel.
+    ``RectLight((0, 2, 0), (1, 0, 0), (0, 0, 1))`` is a 1×1 square at height 2 shining down (``x × z = −y``).
+    Its points are sampled uniformly on the area, converted to solid angle (``p = t² / (A cos θ_q)``).
+
+    Parameters
+    ----------
+    center : three numbers
+    edge0, edge1 : three numbers
+        The edge vectors (full lengths).
+    intensity : number or three numbers
+        Its strength: the radiance is ``color ∘ intensity`` [W/(m²·sr)].
+    color : number or three numbers, keyword
+        The light's colour (linear RGB; a number means gray). Default white.
+    two_sided : bool, keyword
+        Emit from both sides (default: only on the side of ``edge0 × edge1``).
+    """
+
+    __slots__ = ()
+
+    def __init__(
+        self,
+        center: ArrayLike,
+        edge0: ArrayLike,
+        edge1: ArrayLike,
+        intensity: Any = 1.0,
+        *,
+        color: Any = 1.0,
+        two_sided: bool = False,
+    ) -> None:
+        if not isinstance(two_sided, (bool, np.bool_)):
+            raise TypeError(f"two_sided: expected a bool, got {type(two_sided).__name__}")
+        c, e0, e1 = vec3("center", center), vec3("edge0", edge0), vec3("edge1", edge1)
+        emitted = self._set_amount(color, intensity)
+        self._l = _brdfpy.RasterAreaLight.rect(c, e0, e1, emitted, bool(two_sided))
+
+    @property
+    def edge0(self) -> tuple[float, float, float]:
+        """First edge vector."""
+        return tuple(self._fields()["edge0"])
+
+    @property
+    def edge1(self) -> tuple[float, float, float]:
+        """Second edge vector."""
+        return tuple(self._fields()["edge1"])
+
+    @property
+    def two_sided(self) -> bool:
+        """Whether it emits from both sides."""
+        return bool(self._fields()["two_sided"])
+
+    @property
+    def normal(self) -> tuple[float, float, float]:
+        """Unit normal ``edge0 × edge1 / |edge0 × edge1|``, the emitting side."""
+        n = np.cross(np.asarray(self.edge0, np.float64), np.asarray(self.edge1, np.float64))
+        n /= np.linalg.norm(n)
+        return (float(n[0]), float(n[1]), float(n[2]))
+
+    @property
+    def area(self) -> float:
+        """Area ``|edge0 × edge1|``."""
+        return float(np.linalg.norm(np.cross(self.edge0, self.edge1)))
+
+
 def _rebuild_light(cls: type[Light], f: dict[str, Any], color: Any = None, intensity: Any = None) -> Light:
     raw = _brdfpy.RasterLight
     kind = f["kind"]
+    if kind in ("sphere", "rect"):
+        area = _brdfpy.RasterAreaLight
+        if kind == "sphere":
+            al = area.sphere(f["center"], f["radius"], f["radiance"])
+        else:
+            al = area.rect(f["center"], f["edge0"], f["edge1"], f["radiance"], f["two_sided"])
+        made = cls.__new__(cls)
+        made._l = al
+        made._color = color3("color", f["radiance"] if color is None else color)
+        made._intensity = color3("intensity", 1.0 if intensity is None else intensity)
+        return made
     if kind == "directional":
         l = raw.directional(f["direction"], f["color"])
     elif kind == "point":

@@ -11,7 +11,9 @@ uniform white sky, its white-sky albedo, so that ``Scene(ambient_light=...)`` li
 own model), ``I_a`` the scene's ambient light, ``w(p)``
 the ambient obscurance (1 unless ``ao`` is on), ``E_j`` and ``l_j`` what light ``j`` delivers at ``p``,
 ``δ_j`` its visibility (1 unless ``shadows`` is on) and ``model.shade`` the material's reflectance model
-(``f_r · max(n·l, 0)`` for physical models, the course formula as written for classic ones).
+(``f_r · max(n·l, 0)`` for physical models, the course formula as written for classic ones). An environment
+and area lights (:class:`brdfpy.SphereLight`, :class:`brdfpy.RectLight`) add the radiance they reflect,
+``∫ L(l) V(p, l) f_r(l, v) cos θ_l dω`` (see :mod:`brdfpy.environment` and :mod:`brdfpy.lights`).
 """
 
 from __future__ import annotations
@@ -286,7 +288,8 @@ class Scene:
         return inst
 
     def add_light(self, light: Light) -> Light:
-        """Add a light (:class:`DirectionalLight`, :class:`PointLight` or :class:`SpotLight`); returns it."""
+        """Add a light (:class:`DirectionalLight`, :class:`PointLight`, :class:`SpotLight`, or an area light,
+        :class:`SphereLight` or :class:`RectLight`); returns it."""
         if not isinstance(light, Light):
             raise TypeError(
                 f"light: expected a brdfpy light (e.g. DirectionalLight), got {type(light).__name__}"
@@ -329,6 +332,8 @@ class Scene:
         env_mode: str = "fast",
         env_samples: int = 64,
         env_seed: int = 0,
+        area_samples: int = 16,
+        area_seed: int = 0,
     ) -> Image:
         """Render the scene through ``camera`` into a ``width × height`` :class:`Image`.
 
@@ -375,7 +380,8 @@ class Scene:
             over the faces, instead of an estimate — self-occlusion baked in object space, not occlusion by
             the other objects; the other instances are estimated as usual).
         shadows : bool
-            Cast shadow rays toward every light (hard shadows; ``δ_j`` ∈ {0, 1}).
+            Cast shadow rays toward every point, spot and directional light (hard shadows; ``δ_j`` ∈ {0, 1}).
+            Area lights always trace their visibility (soft shadows), whatever this says.
         progress : bool or callable, optional
             ``True`` draws a progress bar on stderr; a callable receives the fraction done (0–1, increasing),
             from a worker thread with the GIL held; an exception it raises is re-raised after the render.
@@ -395,6 +401,14 @@ class Scene:
             the environment's), 1 to 2^20; the noise falls as ``1/√env_samples``.
         env_seed : int
             Seed of the Monte Carlo mode's random numbers, in [0, 2^64).
+        area_samples : int
+            Monte Carlo iterations per shaded point (per sample of ``samples``) and area light
+            (:class:`SphereLight`, :class:`RectLight`), each one sample of the light and one of the material
+            combined by multiple importance sampling, 1 to 2^20; the noise falls as ``1/√area_samples``. Area
+            lights always trace their visibility (soft shadows), whatever ``shadows`` says.
+        area_seed : int
+            Seed of the area lights' random numbers, in [0, 2^64): the same image for the same seed, at any
+            number of threads.
 
         Raises
         ------
@@ -425,6 +439,9 @@ class Scene:
         env_n, seed = _int("env_samples", env_samples), _seed("env_seed", env_seed)
         if not 1 <= env_n <= 2**20:
             raise ValueError(f"env_samples: must lie in [1, 2^20], got {env_n}")
+        area_n, area_s = _int("area_samples", area_samples), _seed("area_seed", area_seed)
+        if not 1 <= area_n <= 2**20:
+            raise ValueError(f"area_samples: must lie in [1, 2^20], got {area_n}")
         cb: Callable[[float], Any] | None
         if progress is True:
             cb = ProgressBar()
@@ -446,7 +463,7 @@ class Scene:
         ]
         frame = _brdfpy.render_scene(
             instances,
-            [light._l for light in self.lights],
+            [light._l for light in self.lights if isinstance(light._l, _brdfpy.RasterLight)],
             self._ambient_light,
             self._background,
             camera._c,
@@ -467,6 +484,9 @@ class Scene:
             env_mode,
             env_n,
             seed,
+            [light._l for light in self.lights if isinstance(light._l, _brdfpy.RasterAreaLight)],
+            area_n,
+            area_s,
         )
         return Image(frame)
 

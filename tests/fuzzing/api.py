@@ -114,6 +114,10 @@ INSTANCES: dict[str, Callable[[random.Random], Any]] = {
     "DirectionalLight": lambda r: brdfpy.DirectionalLight(),
     "PointLight": lambda r: brdfpy.PointLight((0, 2, 0)),
     "SpotLight": lambda r: brdfpy.SpotLight((0, 2, 0), (0, -1, 0)),
+    "SphereLight": lambda r: brdfpy.SphereLight((0, 2, 0), 0.3),
+    "RectLight": lambda r: brdfpy.RectLight((0, 2, 0), (1, 0, 0), (0, 0, 1), two_sided=r.random() < 0.5),
+    # The base class of the area lights cannot be made either.
+    "AreaLight": lambda r: r.choice([INSTANCES["SphereLight"], INSTANCES["RectLight"]])(r),
     "Instance": lambda r: _scene().add(brdfpy.cube()),
     # The base class cannot be made: its methods are those of the lights.
     "Light": lambda r: _light(r, False),
@@ -285,7 +289,8 @@ def _camera(r: random.Random, hostile: bool) -> Any:
 def _light(r: random.Random, hostile: bool) -> Any:
     if hostile:
         return V.hostile_other(r)
-    return r.choice([INSTANCES["DirectionalLight"], INSTANCES["PointLight"], INSTANCES["SpotLight"]])(r)
+    kinds = ["DirectionalLight", "PointLight", "SpotLight", "SphereLight", "RectLight"]
+    return INSTANCES[r.choice(kinds)](r)
 
 
 def _matrix(r: random.Random, hostile: bool) -> Any:
@@ -661,6 +666,11 @@ PARAMS: dict[str, V.Generator] = {
     "env_mode": _names(lambda: ["fast", "monte_carlo"]),
     "env_samples": _i(1, 16),
     "env_seed": _i(0, 2**32),
+    "area_samples": _i(1, 4),
+    "area_seed": _i(0, 2**32),
+    "edge0": _vec,
+    "edge1": _vec,
+    "two_sided": V.bools,
 }
 
 #: Where a parameter name means something else in one place.

@@ -46,7 +46,7 @@ mod _brdfpy {
     use super::pickle::{_frame_from_state, _frame_state, _light_with_direction, _mesh_from_parts};
     #[pymodule_export]
     use super::raster::{
-        RasterCamera, RasterEnvironment, RasterFrame, RasterLight, RasterMesh, builtin_mesh,
+        RasterAreaLight, RasterCamera, RasterEnvironment, RasterFrame, RasterLight, RasterMesh, builtin_mesh,
         builtin_mesh_names, cube, icosphere, load_mesh, load_mesh_bytes, occlusion_cache_info, open_box,
         plane, polygon_normal, raster_limits, render_scene, torus,
     };

@@ -4,6 +4,8 @@
 
 pub mod ambient;
 pub mod ao;
+pub mod area_light;
+pub mod area_lighting;
 pub mod bvh;
 pub mod camera;
 pub mod clip;

@@ -81,6 +81,8 @@ pub struct Scene {
     pub instances: Vec<Instance>,
     /// Light sources.
     pub lights: Vec<Light>,
+    /// Area lights (sphere, rectangle), sampled by Monte Carlo ([`crate::area_lighting`]).
+    pub area_lights: Vec<crate::area_light::AreaLight>,
     /// Ambient light `I_a` (linear RGB).
     pub ambient_light: Vec3,
     /// Radiance of samples no triangle covers (linear RGB), unless there is an environment.
@@ -102,6 +104,7 @@ impl Scene {
         Self {
             instances: Vec::new(),
             lights: Vec::new(),
+            area_lights: Vec::new(),
             ambient_light: Vec3::ONE,
             background: Vec3::ZERO,
             environment: None,
@@ -118,6 +121,12 @@ impl Scene {
     pub fn add_light(&mut self, light: Light) -> usize {
         self.lights.push(light);
         self.lights.len() - 1
+    }
+
+    /// Add an area light; returns its index in [`Scene::area_lights`].
+    pub fn add_area_light(&mut self, light: crate::area_light::AreaLight) -> usize {
+        self.area_lights.push(light);
+        self.area_lights.len() - 1
     }
 
     /// Total number of faces over all instances.
@@ -148,6 +157,9 @@ impl Scene {
         }
         for (j, light) in self.lights.iter().enumerate() {
             light.validate().map_err(|e| RasterError::arg("lights", format!("light {j}: {e}")))?;
+        }
+        for (j, light) in self.area_lights.iter().enumerate() {
+            light.validate().map_err(|e| RasterError::arg("area_lights", format!("area light {j}: {e}")))?;
         }
         for (name, c) in [("ambient_light", self.ambient_light), ("background", self.background)] {
             if !c.is_finite() || c.min_element() < 0.0 {

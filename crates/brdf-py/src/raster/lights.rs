@@ -1,11 +1,14 @@
-//! Lights from Python: `RasterLight` (directional, point, spot) over brdf-core's `Light`.
+//! Lights from Python: `RasterLight` (directional, point, spot) over brdf-core's `Light`, and
+//! `RasterAreaLight` (sphere, rectangle) over brdf-raster's `AreaLight`.
 
 use brdf_core::lights::{Attenuation, Light};
+use brdf_raster::area_light::AreaLight;
+use glam::Vec3;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::{color3, finite3};
+use super::{color3, finite3, raster_err};
 use crate::errors::{invalid, to_py};
 
 /// What arrives from a light at a point: `(l toward the light, irradiance, distance)`.
@@ -118,5 +121,74 @@ impl RasterLight {
     fn incident(&self, p: [f32; 3]) -> PyResult<Option<IncidentTuple>> {
         let p = finite3("p", p)?;
         Ok(self.inner.incident(p).map(|i| (i.l.to_array(), i.irradiance.to_array(), i.distance)))
+    }
+}
+
+/// An area light (brdf-raster `AreaLight`: sphere or rectangle, emitting a radiance); build through the
+/// static constructors.
+#[pyclass(frozen, module = "brdfpy._brdfpy")]
+pub struct RasterAreaLight {
+    pub(crate) inner: AreaLight,
+}
+
+#[pymethods]
+impl RasterAreaLight {
+    /// Sphere light at `center` of `radius`, emitting `radiance` [W/(m²·sr)] from its outside.
+    #[staticmethod]
+    fn sphere(center: [f32; 3], radius: f32, radiance: [f32; 3]) -> PyResult<Self> {
+        let l = AreaLight::sphere(Vec3::from_array(center), radius, Vec3::from_array(radiance));
+        Ok(Self { inner: l.map_err(raster_err)? })
+    }
+
+    /// Rectangle (parallelogram) light with corners `center ± edge0/2 ± edge1/2`, emitting `radiance`
+    /// on the side of `edge0 × edge1` (both with `two_sided`).
+    #[staticmethod]
+    fn rect(
+        center: [f32; 3],
+        edge0: [f32; 3],
+        edge1: [f32; 3],
+        radiance: [f32; 3],
+        two_sided: bool,
+    ) -> PyResult<Self> {
+        let [c, e0, e1, r] = [center, edge0, edge1, radiance].map(Vec3::from_array);
+        Ok(Self { inner: AreaLight::rect(c, e0, e1, r, two_sided).map_err(raster_err)? })
+    }
+
+    /// The light's fields as a dict (`kind` plus the constructor's arguments).
+    fn fields<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        match self.inner {
+            AreaLight::Sphere { center, radius, radiance } => {
+                d.set_item("kind", "sphere")?;
+                d.set_item("center", center.to_array())?;
+                d.set_item("radius", radius)?;
+                d.set_item("radiance", radiance.to_array())?;
+            }
+            AreaLight::Rect { center, edge0, edge1, radiance, two_sided } => {
+                d.set_item("kind", "rect")?;
+                d.set_item("center", center.to_array())?;
+                d.set_item("edge0", edge0.to_array())?;
+                d.set_item("edge1", edge1.to_array())?;
+                d.set_item("radiance", radiance.to_array())?;
+                d.set_item("two_sided", two_sided)?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// `(l, irradiance, distance)` at point `p` from the unoccluded vector irradiance `Φ`
+    /// (`AreaLight::irradiance_vector`): `l = Φ/|Φ|`, the irradiance `|Φ|·radiance` on a surface facing
+    /// `l` that sees the whole light, the distance to the light's centre; `None` where nothing arrives.
+    fn incident(&self, p: [f32; 3]) -> PyResult<Option<IncidentTuple>> {
+        let p = finite3("p", p)?;
+        let phi = self.inner.irradiance_vector(p);
+        let len = phi.length();
+        if !(len > 0.0) || !len.is_finite() {
+            return Ok(None);
+        }
+        let center = match self.inner {
+            AreaLight::Sphere { center, .. } | AreaLight::Rect { center, .. } => center,
+        };
+        Ok(Some(((phi / len).to_array(), (self.inner.radiance() * len).to_array(), (center - p).length())))
     }
 }

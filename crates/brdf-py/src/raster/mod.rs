@@ -26,7 +26,7 @@ use crate::errors::{invalid, to_py};
 
 pub use camera::RasterCamera;
 pub use environment::RasterEnvironment;
-pub use lights::RasterLight;
+pub use lights::{RasterAreaLight, RasterLight};
 pub use mesh::{
     RasterMesh, builtin_mesh, builtin_mesh_names, cube, icosphere, load_mesh, load_mesh_bytes, open_box,
     plane, polygon_normal, torus,

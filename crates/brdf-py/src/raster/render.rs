@@ -6,6 +6,7 @@ use std::sync::{Arc, Mutex};
 use brdf_core::tonemap::Operator;
 use brdf_raster::ambient::resolve as resolve_ambient;
 use brdf_raster::ao::AoOptions;
+use brdf_raster::area_lighting::AreaSampling;
 use brdf_raster::environment::EnvironmentMode;
 use brdf_raster::occlusion::OcclusionCache;
 use brdf_raster::render::{MAX_IMAGE_SIDE, MAX_PIXELS, NoOcclusion, Outputs, RenderOptions, render_lit_into};
@@ -15,7 +16,10 @@ use glam::Vec3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
-use super::{RasterCamera, RasterEnvironment, RasterLight, RasterMesh, color3, mat4_from_rows, raster_err};
+use super::{
+    RasterAreaLight, RasterCamera, RasterEnvironment, RasterLight, RasterMesh, color3, mat4_from_rows,
+    raster_err,
+};
 use crate::errors::{invalid, to_py};
 use crate::models::Model;
 use crate::threads::pool;
@@ -227,7 +231,7 @@ fn check_size(name: &'static str, v: i64) -> PyResult<u32> {
 }
 
 /// Render a scene. `instances`: list of `(RasterMesh, Model, transform[16] row-major, ambient[3] or
-/// None, emission[3])`; `ambient_light`: `I_a`, or `None` for none (see `brdf_raster::ambient::resolve`); `lights`: list of `RasterLight`; returns a [`RasterFrame`]. The scene is built under
+/// None, emission[3])`; `ambient_light`: `I_a`, or `None` for none (see `brdf_raster::ambient::resolve`); `lights`: list of `RasterLight`; `area_lights`: list of `RasterAreaLight`, estimated with `area_samples` iterations and `area_seed` (`brdf_raster::area_lighting`); returns a [`RasterFrame`]. The scene is built under
 /// the GIL, then rendered with the GIL released on the bindings' thread pool. `progress(fraction)` is
 /// called (with the GIL, from worker threads, one call at a time, increasing fractions) as bands of
 /// rows finish; an exception it raises is re-raised after the render. `vertex_obscurance`: one entry
@@ -237,7 +241,7 @@ fn check_size(name: &'static str, v: i64) -> PyResult<u32> {
 #[pyo3(signature = (instances, lights, ambient_light, background, camera, width, height, shading="phong",
     cull_back_faces=true, samples=1, tonemap="clamp", exposure=0.0, white=None, ao=None, shadows=false,
     progress=None, vertex_obscurance=None, outputs=None, environment=None, env_mode="fast", env_samples=64,
-    env_seed=0))]
+    env_seed=0, area_lights=Vec::new(), area_samples=16, area_seed=0))]
 pub fn render_scene(
     py: Python<'_>,
     instances: Vec<InstanceArgs<'_>>,
@@ -262,6 +266,9 @@ pub fn render_scene(
     env_mode: &str,
     env_samples: i64,
     env_seed: u64,
+    area_lights: Vec<PyRef<'_, RasterAreaLight>>,
+    area_samples: i64,
+    area_seed: u64,
 ) -> PyResult<RasterFrame> {
     let width = check_size("width", width)?;
     let height = check_size("height", height)?;
@@ -293,6 +300,7 @@ pub fn render_scene(
     };
     let env_samples = u32::try_from(env_samples).unwrap_or(0);
     options.environment = EnvironmentMode::from_name(env_mode, env_samples, env_seed).map_err(raster_err)?;
+    options.area = AreaSampling { samples: u32::try_from(area_samples).unwrap_or(0), seed: area_seed };
     options.validate().map_err(raster_err)?;
 
     let mut scene = Scene::new();
@@ -318,6 +326,9 @@ pub fn render_scene(
     }
     for l in &lights {
         scene.add_light(l.inner);
+    }
+    for l in &area_lights {
+        scene.add_area_light(l.inner);
     }
     scene.validate().map_err(raster_err)?;
     let stored: Option<Vec<Option<Vec<f32>>>> = match (&options.ao, vertex_obscurance) {

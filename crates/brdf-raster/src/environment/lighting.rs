@@ -127,6 +127,37 @@ fn albedo_at(table: &[Vec3; 16], cos: f32) -> Vec3 {
     table[k] * (1.0 - f) + table[k + 1] * f
 }
 
+/// The unit geometric normal of the face a shaded point lies on (`world`: the instances' world-space
+/// vertex positions), its shading normal for a vertex or a degenerate face. Offsets visibility rays.
+pub(crate) fn geometric_normal(scene: &Scene, world: &[Vec<Vec3>], at: &ShadePoint) -> Vec3 {
+    if at.face == NO_TRI {
+        return at.n;
+    }
+    let k = at.instance as usize;
+    let w = &world[k];
+    let [a, b, c] = scene.instances[k].mesh.indices[at.face as usize].map(|i| w[i as usize]);
+    let g = (b - a).cross(c - a).normalize_or_zero();
+    if g == Vec3::ZERO { at.n } else { g }
+}
+
+/// The key of a shaded point's own stream of random numbers: [`brdf_core::sampling::rng::mix64`] of
+/// what identifies it (instance, face, barycentrics), whichever thread shades it.
+pub(crate) fn point_key(at: &ShadePoint) -> u64 {
+    use brdf_core::sampling::rng::mix64;
+    let id = (u64::from(at.instance) << 32) | u64::from(at.face);
+    let bary = (u64::from(at.bary.x.to_bits()) << 32) | u64::from(at.bary.y.to_bits());
+    mix64(id ^ mix64(bary))
+}
+
+/// The world-space vertex positions of every instance (what [`geometric_normal`] reads).
+pub(crate) fn world_positions(scene: &Scene) -> Vec<Vec<Vec3>> {
+    scene
+        .instances
+        .iter()
+        .map(|i| i.mesh.positions.iter().map(|p| i.transform.transform_point3(*p)).collect())
+        .collect()
+}
+
 /// The occlusion hooks of a render with an environment: `inner`'s obscurance and shadows, and the
 /// environment's reflected radiance as `indirect` (module docs).
 pub struct EnvironmentLighting<'a, O> {
@@ -186,11 +217,7 @@ impl<'a, O: Occlusion> EnvironmentLighting<'a, O> {
                     scene.instances.iter().map(|i| (&*i.mesh, i.transform)).collect();
                 let bvh = Bvh::from_instances(&parts)?;
                 let eps = shadow_offset(&bvh);
-                let world = scene
-                    .instances
-                    .iter()
-                    .map(|i| i.mesh.positions.iter().map(|p| i.transform.transform_point3(*p)).collect())
-                    .collect();
+                let world = world_positions(scene);
                 (world, Some(bvh), eps)
             }
         };
@@ -256,19 +283,8 @@ impl<'a, O: Occlusion> EnvironmentLighting<'a, O> {
 
     /// The Monte Carlo mode's estimate at the point.
     fn monte_carlo(&self, m: &MaterialData, at: &ShadePoint, samples: u32, seed: u64) -> Vec3 {
-        let k = at.instance as usize;
-        let n_geom = if at.face == NO_TRI {
-            at.n
-        } else {
-            let w = &self.world[k];
-            let [a, b, c] = self.scene.instances[k].mesh.indices[at.face as usize].map(|i| w[i as usize]);
-            let g = (b - a).cross(c - a).normalize_or_zero();
-            if g == Vec3::ZERO { at.n } else { g }
-        };
-        let id = (u64::from(at.instance) << 32) | u64::from(at.face);
-        let bary = (u64::from(at.bary.x.to_bits()) << 32) | u64::from(at.bary.y.to_bits());
-        let key = brdf_core::sampling::rng::mix64(id ^ brdf_core::sampling::rng::mix64(bary));
-        let point = MonteCarloPoint { p: at.p, n: at.n, n_geom, v: self.view(at.p), key };
+        let n_geom = geometric_normal(self.scene, &self.world, at);
+        let point = MonteCarloPoint { p: at.p, n: at.n, n_geom, v: self.view(at.p), key: point_key(at) };
         estimate(&m.model, &m.sampler, m.scale, self.env, self.bvh.as_ref(), self.eps, &point, samples, seed)
     }
 }

@@ -103,7 +103,7 @@ pub struct MonteCarloPoint {
 
 /// The power heuristic `a² / (a² + b²)` (0 where both are 0).
 #[inline]
-fn power(a: f32, b: f32) -> f32 {
+pub(crate) fn power(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }

@@ -56,6 +56,7 @@ use rayon::prelude::*;
 pub use options::{MAX_IMAGE_SIDE, MAX_PIXELS, Outputs, RenderOptions};
 
 use crate::RasterError;
+use crate::area_lighting::AreaLighting;
 use crate::camera::Camera;
 use crate::environment::lighting::EnvironmentLighting;
 use crate::framebuffer::Frame;
@@ -138,7 +139,9 @@ pub fn render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result
 
 /// [`render_with_into`] with the scene's environment (if it has one) lighting it in
 /// `options.environment`'s mode, its reflected radiance added to `occlusion`'s hooks
-/// ([`crate::environment::lighting::EnvironmentLighting`]); without one, exactly [`render_with_into`].
+/// ([`crate::environment::lighting::EnvironmentLighting`]), and the scene's area lights (if any) with
+/// `options.area`'s samples ([`crate::area_lighting::AreaLighting`]); without either, exactly
+/// [`render_with_into`].
 pub fn render_lit_into<O: Occlusion>(
     scene: &Scene,
     camera: &Camera,
@@ -147,14 +150,22 @@ pub fn render_lit_into<O: Occlusion>(
     progress: Option<&(dyn Fn(f32) + Sync)>,
     frame: &mut Frame,
 ) -> Result<(), RasterError> {
-    if scene.environment.is_none() {
+    if scene.environment.is_none() && scene.area_lights.is_empty() {
         return render_with_into(scene, camera, options, occlusion, progress, frame);
     }
     options.validate()?;
     camera.validate()?;
     scene.validate()?;
+    if scene.environment.is_none() {
+        let area = AreaLighting::new(scene, camera, options.area, occlusion)?;
+        return render_with_into(scene, camera, options, &area, progress, frame);
+    }
     let lit = EnvironmentLighting::new(scene, camera, options.environment, occlusion)?;
-    render_with_into(scene, camera, options, &lit, progress, frame)
+    if scene.area_lights.is_empty() {
+        return render_with_into(scene, camera, options, &lit, progress, frame);
+    }
+    let area = AreaLighting::new(scene, camera, options.area, &lit)?;
+    render_with_into(scene, camera, options, &area, progress, frame)
 }
 
 /// Render with ambient-occlusion / shadow providers and an optional progress callback (called with the

@@ -5,6 +5,7 @@ use brdf_core::tonemap::Operator;
 
 use crate::RasterError;
 use crate::ao::AoOptions;
+use crate::area_lighting::AreaSampling;
 use crate::environment::EnvironmentMode;
 use crate::shading::ShadingMode;
 
@@ -127,6 +128,8 @@ pub struct RenderOptions {
     pub outputs: Outputs,
     /// How the scene's environment (if it has one) lights it ([`crate::environment`]).
     pub environment: EnvironmentMode,
+    /// Samples and seed of the scene's area lights, if it has any ([`crate::area_lighting`]).
+    pub area: AreaSampling,
 }
 
 impl RenderOptions {
@@ -144,6 +147,7 @@ impl RenderOptions {
             shadows: false,
             outputs: Outputs::BUFFERS,
             environment: EnvironmentMode::Fast,
+            area: AreaSampling::default(),
         }
     }
 
@@ -193,6 +197,7 @@ impl RenderOptions {
         if let Some(ao) = &self.ao {
             ao.validate()?;
         }
+        self.area.validate()?;
         self.environment.validate()
     }
 }
