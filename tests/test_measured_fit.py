@@ -241,3 +241,33 @@ def test_the_analytic_jacobian_and_central_differences_reach_the_same_fit() -> N
     assert (
         measured.fit("blinn_phong", *_data(brdfpy.model("blinn_phong"), 300)).jacobian == "finite_difference"
     )
+
+
+ISOTROPIC_TRUTHS = {
+    "lambert": {"kd": (0.3, 0.5, 0.2)},
+    "oren_nayar": {"kd": (0.3, 0.5, 0.2), "sigma": 0.4},
+    "oren_nayar_full": {"kd": (0.3, 0.5, 0.2), "sigma": 0.4},
+    "phong": {"kd": (0.3, 0.5, 0.2), "ks": 0.3, "shininess": 80.0},
+    "blinn_phong": {"kd": (0.3, 0.5, 0.2), "ks": 0.3, "shininess": 80.0},
+    "cook_torrance": {"kd": (0.3, 0.5, 0.2), "ks": 0.7, "roughness": 0.15, "f0": (0.9, 0.6, 0.3)},
+}
+
+
+def test_the_truths_cover_every_isotropic_physical_model() -> None:
+    want = {
+        m
+        for m in brdfpy.models()
+        if brdfpy.model_info(m)["physical"] and not brdfpy.model_info(m)["anisotropic"]
+    }
+    assert set(ISOTROPIC_TRUTHS) == want
+
+
+@pytest.mark.parametrize("name", sorted(ISOTROPIC_TRUTHS))
+def test_every_isotropic_physical_model_is_recovered_with_no_start(name: str) -> None:
+    truth = brdfpy.model(name, **ISOTROPIC_TRUTHS[name])
+    res = measured.fit(name, *_data(truth, 3000, seed=20))
+    assert res.converged, res.message
+    for k, x in res.params.items():
+        want = np.asarray(truth.params[k], dtype=np.float64)
+        # Exponents to a relative 1e-5, the rest to 1e-5 absolute (measured: at most 1.8e-6).
+        np.testing.assert_allclose(np.asarray(x), want, rtol=1e-5, atol=1e-5, err_msg=k)
