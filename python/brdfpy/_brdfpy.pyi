@@ -402,10 +402,18 @@ def fit_model(
     v: _F32,
     n: _F32,
     values: _F32,
-    start: dict[str, Any],
+    weights: _F64 | None = None,
     fixed: dict[str, Any] | None = None,
+    start: dict[str, Any] | None = None,
+    loss: str = "log",
+    multistart: int | None = None,
+    choices: dict[str, list[str]] | None = None,
     max_iterations: int | None = None,
+    jacobian: str = "auto",
 ) -> dict[str, Any]: ...
+def table_samples(
+    table: Tabulated, count: int, seed: int, max_theta: float, strategy: str
+) -> tuple[_F32, _F32, _F32]: ...
 def sh_basis(dirs: _F64, order: int) -> _F64: ...
 def sh_quadrature(n_mu: int, n_phi: int) -> tuple[_F64, _F64]: ...
 def sh_project(values: _F64, dirs: _F64, weights: _F64, order: int) -> _F64: ...

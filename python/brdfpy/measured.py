@@ -19,18 +19,35 @@ trilinearly. Values are ``f_r`` in 1/sr, linear RGB.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
-from typing import Any, TypedDict
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._arrays import as_int, as_vectors
+from brdfpy._arrays import _as_numeric, as_int, as_vectors
 from brdfpy._paths import as_path
-from brdfpy.models import Model, ParamValue, model
+from brdfpy.image import Image
+from brdfpy.models import Model, ParamValue
+from brdfpy.models import model as _model
 
-__all__ = ["MERL_RESOLUTION", "FitResult", "Tabulated", "fit"]
+if TYPE_CHECKING:  # views imports this module
+    from brdfpy.views import Albedo, HalfDiffSlice
+
+__all__ = [
+    "LOSSES",
+    "MERL_RESOLUTION",
+    "STRATEGIES",
+    "ChannelError",
+    "Comparison",
+    "FitReport",
+    "FitResult",
+    "Tabulated",
+    "compare",
+    "fit",
+]
 
 #: ``(n_theta_h, n_theta_d, n_phi_d)`` of the files of the MERL BRDF database.
 MERL_RESOLUTION = (90, 90, 180)
@@ -141,85 +158,356 @@ class Tabulated:
         return repr(self._inner)
 
 
-class FitResult(TypedDict):
-    """What :func:`fit` returns."""
+#: The losses :func:`fit` minimises (``brdf_core::fit::Loss``; formulas and sources in :func:`fit`).
+LOSSES = ("log", "cube_root", "cosine_relative", "linear")
 
+#: How :func:`fit` draws samples from a table: ``"cosine"`` (default) or ``"half_diff"``.
+STRATEGIES = ("cosine", "half_diff")
+
+#: The keys the report of earlier versions (a dict) had: ``report[key]`` still reads them.
+_LEGACY_KEYS = ("model", "values", "rms_log_error", "epsilon", "iterations", "converged", "samples_used")
+
+
+@dataclass(frozen=True)
+class ChannelError:
+    """Error figures of one RGB channel at the solution of a fit."""
+
+    #: Root-mean-square of the residuals of the loss (weights included).
+    rms: float
+    #: Largest absolute residual.
+    max: float
+    #: ``sqrt(sum (f - d)^2 / sum d^2)`` over the samples: the relative L2 error of the values.
+    relative_l2: float
+
+
+@dataclass(frozen=True)
+class FitReport:
+    """What :func:`fit` returns: the fitted model and how good the fit is.
+
+    ``report["values"]``, ``report["converged"]`` and the other keys of the dict earlier versions returned
+    (:data:`_LEGACY_KEYS`) still read the same numbers.
+    """
+
+    #: The fitted :class:`brdfpy.Model`, ready to render.
     model: Model
-    values: dict[str, Any]
+    #: The fitted values of the free parameters (float, or a 3-tuple for a colour).
+    params: dict[str, Any]
+    #: Their standard errors, ``sqrt(diag((J^T J)^-1) sigma^2)`` at the solution (NaN at a bound): right when
+    #: every residual has the same spread (additive noise under the linear loss).
+    stderr: dict[str, Any]
+    #: The sandwich (heteroscedasticity-consistent; Huber 1967, White 1980) standard errors, right also when
+    #: the spread varies (e.g. multiplicative noise under the log loss).
+    stderr_robust: dict[str, Any]
+    #: Per RGB channel error figures.
+    errors: tuple[ChannelError, ChannelError, ChannelError]
+    #: Free values that ended on a bound: ``(name or name[channel], bound)``.
+    at_bound: list[tuple[str, float]]
+    #: Continuous parameters held at their defaults because they do not change the model.
+    inactive: list[str]
+    #: The discrete choices of the best combination when ``choices`` were searched.
+    choices: dict[str, str]
+    #: The cost of every combination tried (``([(name, value), ...], cost)``; empty without a search).
+    tried: list[tuple[list[tuple[str, str]], float]]
+    #: The loss minimised and its value ``0.5 * sum r^2`` at the solution.
+    loss: str
+    cost: float
+    #: RMS of ``ln(f + eps) - ln(d + eps)``, ``eps = 0.01 * mean(d)`` (the figure of earlier versions).
     rms_log_error: float
     epsilon: float
+    #: Iterations of the final run, whether it converged and why it stopped.
     iterations: int
     converged: bool
+    message: str
+    #: Samples used (both directions above the surface) and starts tried.
     samples_used: int
+    starts: int
+    #: ``"analytic"`` or ``"finite_difference"``: how the Jacobian was computed.
+    jacobian: str
+
+    @property
+    def values(self) -> dict[str, Any]:
+        """The fitted parameters (:attr:`params`; the name of earlier versions)."""
+        return self.params
+
+    def keys(self) -> tuple[str, ...]:
+        """The keys of the dict earlier versions returned (``dict(report)`` gives that dict)."""
+        return _LEGACY_KEYS
+
+    def __getitem__(self, key: str) -> Any:
+        if key not in _LEGACY_KEYS:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __repr__(self) -> str:
+        def fmt(x: Any) -> str:
+            if isinstance(x, tuple):
+                return "(" + ", ".join(f"{y:.4g}" for y in x) + ")"
+            return f"{x:.4g}"
+
+        lines = [f"FitReport({self.model.name}, loss={self.loss!r}: {self.message})"]
+        for k, x in self.params.items():
+            lines.append(f"  {k:<12} = {fmt(x)}  ± {fmt(self.stderr[k])}")
+        if self.choices:
+            lines.append("  choices: " + ", ".join(f"{k}={v}" for k, v in self.choices.items()))
+        e = self.errors
+        lines.append("  relative L2 error (R, G, B): " + ", ".join(f"{c.relative_l2:.3g}" for c in e))
+        lines.append("  RMS loss residual (R, G, B): " + ", ".join(f"{c.rms:.3g}" for c in e))
+        if self.at_bound:
+            lines.append("  at a bound: " + ", ".join(f"{n} = {b:g}" for n, b in self.at_bound))
+        if self.inactive:
+            lines.append("  inactive (held at defaults): " + ", ".join(self.inactive))
+        lines.append(
+            f"  {self.iterations} iterations, {self.starts} starts, {self.samples_used} samples, "
+            f"{self.jacobian} Jacobian"
+        )
+        return "\n".join(lines)
+
+
+#: The type of :func:`fit`'s result under its former name.
+FitResult = FitReport
+
+
+def _mapping(name: str, m: object) -> dict[str, Any]:
+    if m is None:
+        return {}
+    if not isinstance(m, Mapping):
+        raise TypeError(f"{name}: expected a mapping of parameter names to values, got {type(m).__name__}")
+    for k in m:
+        if not isinstance(k, str):
+            raise TypeError(f"{name}: parameter names must be strings, got {k!r}")
+    return _plain(dict(m))
 
 
 def fit(
-    model_name: str,
-    l: ArrayLike,
-    v: ArrayLike,
-    n: ArrayLike,
-    values: ArrayLike,
+    model: str,
+    data: Tabulated | tuple[ArrayLike, ArrayLike, ArrayLike, ArrayLike] | ArrayLike,
+    v: ArrayLike | None = None,
+    n: ArrayLike | None = None,
+    values: ArrayLike | None = None,
     *,
-    start: Mapping[str, ParamValue],
     fixed: Mapping[str, ParamValue] | None = None,
-    max_iterations: int = 200,
-) -> FitResult:
-    """Fit the parameters named in ``start`` of registry model ``model_name`` to measured samples.
+    start: Mapping[str, ParamValue] | None = None,
+    loss: str = "log",
+    weights: ArrayLike | None = None,
+    choices: Mapping[str, Sequence[str]] | None = None,
+    multistart: int = 8,
+    samples: int = 20_000,
+    seed: int = 0,
+    max_theta: float = 80.0,
+    strategy: str = "cosine",
+    max_iterations: int = 100,
+    jacobian: str = "auto",
+) -> FitReport:
+    """Fit registry model ``model`` to measured data: ``fit("cook_torrance", table)``.
 
-    Levenberg–Marquardt on the log residuals ``ln(f_model + ε) − ln(f_data + ε)`` with
-    ``ε = 0.01 · mean(values)`` (so the specular peak does not dominate), numerical Jacobian, every value kept
-    inside the registry's range for it.
+    Every continuous parameter (scalars and RGB colours, each channel on its own, within its registry range)
+    is free unless ``fixed``; parameters that do not change the model under the given choices (e.g. the
+    conductor's ``eta`` with Schlick's Fresnel, a second lobe of weight 0) are held at their defaults and
+    listed in :attr:`FitReport.inactive`. With no ``start``, the fit starts from the defaults and from
+    ``multistart`` points of a deterministic Latin hypercube over the ranges and keeps the best. The solver
+    is Levenberg–Marquardt (analytic Jacobian where one is written, see ``jacobian``), in Rust, in parallel,
+    without the GIL; the result does not depend on the thread count.
 
     Parameters
     ----------
-    model_name : str
+    model : str
         A registry name (see :func:`brdfpy.models`).
-    l, v, n : array_like, shape (..., 3)
-        Sample directions (broadcast as in :meth:`brdfpy.Model.eval`).
-    values : array_like, shape (..., 3)
-        Measured ``f_r`` [1/sr], finite and ``>= 0``. Samples with ``l`` or ``v`` below the surface are
-        dropped.
-    start : mapping
-        The free parameters and their starting values (scalar or color parameters; a color is fitted per
-        channel).
+    data : Tabulated, or (l, v, n, values)
+        A table (sampled by ``strategy``: ``samples`` pairs of directions from ``seed``, both below
+        ``max_theta`` degrees; see below), or arrays ``l, v, n`` of shape ``(..., 3)`` that broadcast and
+        ``values`` (measured ``f_r`` [1/sr], finite and ``>= 0``), as a tuple or as four positional
+        arguments ``fit(model, l, v, n, values)``. Samples below the surface are dropped.
     fixed : mapping, optional
-        Parameters held at the given values (choices such as ``distribution`` go here); the rest keep their
-        defaults.
+        Parameters held at the given values (choices such as ``distribution`` go here).
+    start : mapping, optional
+        Starting values of free parameters (a parameter named here is always fitted).
+    loss : str
+        With ``c = n·l``, model ``f`` and data ``d``: ``"log"`` (default) ``ln(1 + c f) − ln(1 + c d)``, the
+        logarithmic metric of Löw, Kronander, Ynnerman & Unger (ACM ToG 31(1), 2012), relative near the peak
+        and absolute in the dark tail; ``"cube_root"`` ``(c f)^(1/3) − (c d)^(1/3)``, the metric Forés,
+        Ferwerda & Gu (Color and Imaging Conference 2012) found closest to perceived differences;
+        ``"cosine_relative"`` ``c (f − d)/(d + ε)``, ``ε = 0.01·mean(d)``, the cosine-weighted error of Ngan,
+        Durand & Matusik (EGSR 2005) made relative; ``"linear"`` ``f − d``.
+    weights : array_like, optional
+        A weight ``>= 0`` per sample (its residuals are multiplied by ``sqrt(w)``).
+    choices : mapping of str to list of str, optional
+        Discrete choices to search, e.g. ``{"distribution": ["ggx", "beckmann"]}``: every combination is
+        fitted and the lowest cost kept (:attr:`FitReport.tried` lists them).
+    multistart : int
+        Latin-hypercube starts besides the given one (0 to 1024; 0: the given start only).
+    samples, seed, max_theta, strategy
+        How a table is sampled: ``"cosine"`` draws ``l`` and ``v`` independently, cosine-distributed over the
+        hemisphere cut at ``max_theta`` (default 80°, the cut-off of Ngan et al. 2005); ``"half_diff"`` draws
+        uniformly in the table's index coordinates (as dense near the specular peak as the MERL grid), keeping
+        pairs below the cut-off. Ignored for arrays.
     max_iterations : int
-        Most iterations.
+        Most iterations of the final run.
+    jacobian : str
+        ``"auto"`` (default): analytic for Lambert and for Cook–Torrance with GGX, Smith masking and Schlick's
+        Fresnel (checked against central differences in the tests), central differences otherwise;
+        ``"finite_difference"``: central differences always.
 
     Returns
     -------
-    dict
-        ``model`` (the fitted :class:`brdfpy.Model`), ``values`` (the free parameters: float, or a 3-tuple for
-        a color), ``rms_log_error``, ``epsilon``, ``iterations``, ``converged``, ``samples_used``.
+    FitReport
     """
-    if not isinstance(model_name, str):
-        raise TypeError(f"model_name: expected a str, got {type(model_name).__name__}")
-    if not isinstance(max_iterations, int) or max_iterations < 1:
-        raise ValueError(f"max_iterations: expected a positive integer, got {max_iterations!r}")
-    la, va, na = as_vectors("l", l), as_vectors("v", v), as_vectors("n", n)
-    fa = as_vectors("values", values)
-    for name, m in (("start", start), ("fixed", fixed)):
-        if m is not None and not isinstance(m, Mapping):
+    if not isinstance(model, str):
+        raise TypeError(f"model: expected a registry model name (str), got {type(model).__name__}")
+    for name, k, lo, hi in (
+        ("max_iterations", max_iterations, 1, 100_000),
+        ("multistart", multistart, 0, 1024),
+    ):
+        if isinstance(k, bool) or not isinstance(k, int) or not lo <= k <= hi:
+            raise ValueError(f"{name}: expected an integer in [{lo}, {hi}], got {k!r}")
+    if not isinstance(loss, str) or loss not in LOSSES:
+        raise ValueError(f"loss: expected one of {', '.join(LOSSES)}, got {loss!r}")
+    if isinstance(data, Tabulated):
+        if v is not None or n is not None or values is not None:
+            raise TypeError("v, n, values: give a table alone, or the arrays l, v, n, values")
+        if not isinstance(strategy, str) or strategy not in STRATEGIES:
+            raise ValueError(f"strategy: expected one of {', '.join(STRATEGIES)}, got {strategy!r}")
+        theta = (
+            float(max_theta)
+            if isinstance(max_theta, (int, float)) and not isinstance(max_theta, bool)
+            else None
+        )
+        if theta is None or not 0.0 < theta <= 90.0:
+            raise ValueError(f"max_theta: expected degrees in (0, 90], got {max_theta!r}")
+        la, va, fa = _brdfpy.table_samples(data._inner, samples, seed, theta, strategy)
+        na = np.array([0.0, 0.0, 1.0], dtype=np.float32)
+    else:
+        if v is None and n is None and values is None:
+            if not isinstance(data, (tuple, list)) or len(data) != 4:
+                raise TypeError(
+                    "data: expected a measured.Tabulated or a tuple (l, v, n, values), "
+                    f"got {type(data).__name__}"
+                )
+            l_, v_, n_, f_ = data
+        elif v is None or n is None or values is None:
+            raise TypeError("v, n, values: give all of l, v, n, values (or a table, or one tuple)")
+        else:
+            l_, v_, n_, f_ = data, v, n, values
+        la, va, na = as_vectors("l", l_), as_vectors("v", v_), as_vectors("n", n_)
+        fa = as_vectors("values", f_)
+    w = None
+    if weights is not None:
+        w = np.ascontiguousarray(_as_numeric("weights", weights), dtype=np.float64)
+        if w.ndim != 1:
+            raise ValueError(f"weights: expected one weight per sample (a 1-D array), got shape {w.shape}")
+    fixed_d, start_d = _mapping("fixed", fixed), _mapping("start", start)
+    choices_d: dict[str, list[str]] = {}
+    if choices is not None:
+        if not isinstance(choices, Mapping):
             raise TypeError(
-                f"{name}: expected a mapping of parameter names to values, got {type(m).__name__}"
+                f"choices: expected a mapping of choice names to lists, got {type(choices).__name__}"
             )
-    start_d = _plain(dict(start))
-    fixed_d = _plain(dict(fixed or {}))
-    res = _brdfpy.fit_model(model_name, la, va, na, fa, start_d, fixed_d, max_iterations)
-    fitted: dict[str, Any] = dict(res["values"])
-    return FitResult(
-        model=model(model_name, **fixed_d, **fitted),
-        values=fitted,
-        rms_log_error=float(res["rms_log_error"]),
-        epsilon=float(res["epsilon"]),
-        iterations=int(res["iterations"]),
-        converged=bool(res["converged"]),
-        samples_used=int(res["samples_used"]),
+        for cname, vals in choices.items():
+            if isinstance(vals, str) or not isinstance(vals, Sequence):
+                raise TypeError(f"choices: {cname!r} must map to a list of names, got {vals!r}")
+            choices_d[cname] = list(vals)
+    if jacobian not in ("auto", "finite_difference"):
+        raise ValueError(f"jacobian: expected 'auto' or 'finite_difference', got {jacobian!r}")
+    r = _brdfpy.fit_model(
+        model, la, va, na, fa, w, fixed_d, start_d, loss, multistart, choices_d, max_iterations, jacobian
+    )
+    params: dict[str, Any] = dict(r["values"])
+    chosen: dict[str, str] = dict(r["choices"])
+    return FitReport(
+        model=_model(model, **fixed_d, **chosen, **params),
+        params=params,
+        stderr=dict(r["stderr"]),
+        stderr_robust=dict(r["stderr_robust"]),
+        errors=tuple(ChannelError(*c) for c in r["channels"]),  # type: ignore[arg-type]
+        at_bound=[(str(a), float(b)) for a, b in r["at_bound"]],
+        inactive=list(r["inactive"]),
+        choices=chosen,
+        tried=[(list(c), float(x)) for c, x in r["tried"]],
+        loss=str(r["loss"]),
+        cost=float(r["cost"]),
+        rms_log_error=float(r["rms_log_error"]),
+        epsilon=float(r["epsilon"]),
+        iterations=int(r["iterations"]),
+        converged=bool(r["converged"]),
+        message=str(r["message"]),
+        samples_used=int(r["samples_used"]),
+        starts=int(r["starts"]),
+        jacobian=str(r["jacobian"]),
     )
 
 
 def _plain(d: dict[str, Any]) -> dict[str, Any]:
     # NumPy scalars and arrays → Python numbers and lists, which the compiled module extracts.
     return {k: (x.tolist() if isinstance(x, (np.ndarray, np.generic)) else x) for k, x in d.items()}
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """A fit against its data (see :func:`compare`)."""
+
+    #: ``f_r`` of the table and of the model over ``(θ_h, θ_d)`` at one ``φ_d``
+    #: (:func:`brdfpy.views.half_diff_slice`).
+    data_slice: HalfDiffSlice
+    model_slice: HalfDiffSlice
+    #: ``ln(1 + f_model) − ln(1 + f_data)`` per RGB channel, ``(n_d, n_h, 3)``; 0 where not :attr:`valid`.
+    log_error: NDArray[np.float32]
+    #: ``(f_model − f_data)/f_data`` per channel where the data are above 1e-6 of their largest value, else 0.
+    relative_error: NDArray[np.float32]
+    #: Where both directions are above the surface, ``(n_d, n_h)``.
+    valid: NDArray[np.bool_]
+    #: Directional albedo curves of both (:func:`brdfpy.views.albedo`).
+    data_albedo: Albedo
+    model_albedo: Albedo
+    #: The lit spheres side by side, data on the left, model on the right, tone-mapped together.
+    spheres: Image
+
+
+def compare(
+    table: Tabulated,
+    model: Model | FitReport,
+    *,
+    phi_d: float = 90.0,
+    size: int | tuple[int, int] = 90,
+    sphere_size: int = 256,
+    theta_i: ArrayLike | None = None,
+) -> Comparison:
+    """Compare a table with a model (or the model of a :class:`FitReport`): error maps over Rusinkiewicz's
+    ``(θ_h, θ_d)`` at ``φ_d`` [deg] (``size`` cells, as :func:`brdfpy.views.half_diff_slice`), the directional
+    albedo of both at ``theta_i`` [deg] (:func:`brdfpy.views.albedo`), and the lit spheres of both
+    (:func:`brdfpy.views.lit_sphere`, ``sphere_size`` pixels each) side by side in one :class:`~brdfpy.Image`
+    under one tone map (the extended Reinhard operator, white point at the brighter sphere's peak)."""
+    from brdfpy import views
+
+    if not isinstance(table, Tabulated):
+        raise TypeError(f"table: expected a measured.Tabulated, got {type(table).__name__}")
+    m = model.model if isinstance(model, FitReport) else model
+    if not isinstance(m, _brdfpy.Model):
+        raise TypeError(f"model: expected a brdfpy.Model or a FitReport, got {type(model).__name__}")
+    tm = table.as_model()
+    ds, ms = views.half_diff_slice([tm, m], phi_d=phi_d, size=size)
+    valid = ds.valid & ms.valid
+    fd, fm = ds.values.astype(np.float64), ms.values.astype(np.float64)
+    log_err = np.where(valid[..., None], np.log1p(fm) - np.log1p(fd), 0.0).astype(np.float32)
+    floor = 1e-6 * max(float(fd[valid].max(initial=0.0)), 1e-30)
+    ok = valid[..., None] & (fd > floor)
+    rel = np.where(ok, (fm - fd) / np.where(ok, fd, 1.0), 0.0).astype(np.float32)
+    da, ma = views.albedo([tm, m], theta_i)
+    first = views.lit_sphere([tm, m], size=sphere_size, tonemap="clamp")
+    white = max(1.0, max(float(np.max(img.hdr)) for img in first))
+    pair = views.lit_sphere([tm, m], size=sphere_size, tonemap="reinhard_extended", white=white)
+    return Comparison(ds, ms, log_err, rel, valid, da, ma, _side_by_side(pair[0], pair[1]))
+
+
+def _side_by_side(a: Image, b: Image) -> Image:
+    """Two images of one height as one, ``a`` on the left (the buffers of both, tone-mapped as rendered)."""
+    wa, ha, *bufs_a, tonemap, white, exposure = _brdfpy._frame_state(a._f)
+    wb, hb, *bufs_b, _, _, _ = _brdfpy._frame_state(b._f)
+    if ha != hb:
+        raise ValueError(f"images of different heights ({ha}, {hb})")
+    # The buffers are flat, row-major (an absent one is empty): join row by row.
+    joined = []
+    for x, y in zip(bufs_a, bufs_b):
+        rows = np.concatenate([np.asarray(x).reshape(ha, wa, -1), np.asarray(y).reshape(hb, wb, -1)], axis=1)
+        joined.append(np.ascontiguousarray(rows.reshape(-1)))
+    hdr, depth, normal, ids, rgb8 = joined
+    frame = _brdfpy._frame_from_state(wa + wb, ha, hdr, depth, normal, ids, rgb8, tonemap, white, exposure)
+    return Image(frame)

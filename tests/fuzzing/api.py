@@ -59,6 +59,9 @@ DATA_CLASSES = {
     "ParamInfo",
     "Hits",
     "FitResult",
+    "FitReport",
+    "ChannelError",
+    "Comparison",
     "Quadrature",
     "CheckReport",
     "Chi2Result",
@@ -691,6 +694,20 @@ OVERRIDES: dict[tuple[str, str], V.Generator] = {
     ("brdfpy.checks.directional_albedo", "n_theta"): _i(1, 8),
     ("brdfpy.checks.directional_albedo", "n_phi"): _i(1, 8),
     ("brdfpy.measured.fit", "values"): lambda r, h: _vec(r, h),
+    ("brdfpy.measured.fit", "loss"): _names(lambda: list(brdfpy.measured.LOSSES)),
+    ("brdfpy.measured.fit", "strategy"): _names(lambda: list(brdfpy.measured.STRATEGIES)),
+    ("brdfpy.measured.fit", "jacobian"): _names(lambda: ["auto", "finite_difference"]),
+    ("brdfpy.measured.fit", "weights"): _opt(lambda r, h: _sc(r, h, 0.0, 2.0)),
+    ("brdfpy.measured.fit", "choices"): lambda r, h: (
+        r.choice([None, {"distribution": ["ggx", "beckmann"]}])
+        if not h
+        else r.choice(
+            [{"distribution": "ggx"}, {"roughness": ["ggx"]}, {"distribution": []}, V.hostile_other(r)]
+        )
+    ),
+    ("brdfpy.measured.fit", "multistart"): _i(0, 4),
+    ("brdfpy.measured.fit", "max_theta"): _f(10.0, 90.0),
+    ("brdfpy.measured.compare", "sphere_size"): _i(8, 32),
     ("brdfpy.transforms.translate", "x"): lambda r, h: _f(-2, 2)(r, h) if r.random() < 0.5 else _vec(r, h),
     ("brdfpy.transforms.scale", "sx"): lambda r, h: _f(0.5, 2)(r, h) if r.random() < 0.5 else _vec(r, h),
 }

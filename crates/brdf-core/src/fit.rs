@@ -1,31 +1,74 @@
-//! Fitting an analytic model's parameters to measured BRDF samples (as Ngan, Durand, Matusik, "Experimental
-//! Analysis of BRDF Models", EGSR 2005, fit analytic models to MERL data).
+//! Fitting a registry model's parameters to measured BRDF samples ([`fit_model`]), as Ngan, Durand &
+//! Matusik ("Experimental Analysis of BRDF Models", EGSR 2005) fit analytic models to the MERL data.
 //!
-//! The fit is a damped least-squares (Levenberg–Marquardt, Marquardt's 1963 form with the damping
-//! scaled by `diag(JᵀJ)` so that it is invariant to the units of each parameter) with a numerical
-//! (central-difference) Jacobian, projected onto the registry's parameter ranges ([`crate::params`])
-//! after every step, so every trial model is one `Model::build` would accept.
+//! ## What is fitted
+//! Every continuous parameter of the model (scalars and RGB colours, each channel of a colour on its
+//! own) is free unless it is fixed ([`FitOptions::fixed`]), kept inside its registry range
+//! ([`crate::params`]) by projection after every step (so every trial model is one `Model::build`
+//! accepts). Parameters that do not change the model under the given choices (the conductor's `eta` when
+//! the Fresnel term is Schlick's, a second lobe of weight 0) are held at their defaults and reported as
+//! inactive: a parameter counts as inactive when moving it to two other values of its range, at the
+//! defaults and the fixed choices and flags, changes no sample's value by more than 1e-5 of the largest
+//! one (fixed numbers are left out of the probe, so that fixing a roughness does not switch on a second
+//! lobe whose default roughness then differs). A
+//! parameter named in [`FitOptions::start`] is always free (name `weight2` and `roughness2` there to fit a
+//! two-lobe mixture). Discrete choices (`distribution`, `fresnel`, ...) are fixed, or searched: every
+//! combination of [`FitOptions::choices`] is fitted and the lowest cost kept.
 //!
-//! ## What is minimised
+//! ## Where it starts
+//! From the given start values (the defaults for the others), and from [`FitOptions::multistart`] more
+//! points of a deterministic Latin hypercube over the ranges of the parameters not given a start (M. D.
+//! McKay, R. J. Beckman, W. J. Conover, Technometrics 21(2), 1979): uniform, quadratic toward 0 for ranges
+//! `[0, hi]` (roughness-like), logarithmic for ranges reaching 20 and more (exponents). Each start runs
+//! [`MULTISTART_ITERATIONS`] iterations on a subsample of at most [`MULTISTART_SAMPLES`] samples; the
+//! best then runs to convergence on all of them.
+//!
+//! ## What is minimised: [`Loss`]
 //! Measured BRDFs span orders of magnitude between the specular peak and the diffuse floor; a plain
-//! squared error would fit the few samples near the peak and ignore the rest. Following the practice
-//! of Ngan, Durand & Matusik (2005, "Experimental Analysis of BRDF Models") of fitting on a compressed
-//! scale, the residual of sample `i`, channel `c` is the log difference
+//! squared error fits the few samples near the peak and ignores the rest. With `c = n·l` (the cosine
+//! factor of the rendering equation), `f` the model and `d` the data, the residual of sample `i`,
+//! channel `k` is (times `√w_i` with [`FitOptions::weights`]):
+//! - [`Loss::Log`] (the default): `ln(1 + c f) − ln(1 + c d)`, the logarithmic metric of Löw, Kronander,
+//!   Ynnerman & Unger ("BRDF Models for Accurate and Efficient Rendering of Glossy Surfaces", ACM ToG
+//!   31(1), 2012, their E2), which they found to give the best renderings: relative near the peak,
+//!   absolute in the dark tail, so zeros and noise there do not dominate;
+//! - [`Loss::CubeRoot`]: `(c f)^⅓ − (c d)^⅓`, the cube-root metric that A. Forés, J. Ferwerda & J. Gu
+//!   ("Toward a Perceptually Based Metric for BRDF Modeling", Color and Imaging Conference 2012) found
+//!   closest to perceived differences;
+//! - [`Loss::CosineRelative`]: `c (f − d)/(d + ε)` with `ε = 0.01·mean(d)`: the cosine-weighted error of
+//!   Ngan et al. (2005) made relative to the data;
+//! - [`Loss::Linear`]: `f − d`.
 //!
-//! `r_ic = ln(f_model + ε) − ln(f_data + ε)`,
-//!
-//! with `ε = 0.01 · mean(f_data)` (over samples and channels): values far below 1 % of the mean are
-//! matched in absolute rather than relative terms, so zeros and noise in the dark tail do not dominate.
 //! Samples with `l` or `v` at or below the horizon are dropped (every physical model is 0 there).
+//!
+//! ## The solver and what it reports
+//! Levenberg–Marquardt ([`lm`]) with an analytic Jacobian where one is written ([`analytic`]: Lambert,
+//! Cook–Torrance with GGX, Smith and Schlick) and central differences otherwise (the columns computed in
+//! parallel; every model evaluation is the batch evaluator's, in parallel over samples). Standard
+//! errors are `√diag((JᵀJ)⁻¹ σ²)` with `σ² = 2·cost/(m − k)` at the solution (m residuals, k free values;
+//! the Gauss–Newton approximation of the covariance, e.g. Press et al., *Numerical Recipes*, 3rd ed.,
+//! §15.5), over the values not at a bound; NaN where not estimable. That assumes every residual has the
+//! same spread; [`FitReport::stderr_robust`] holds the sandwich estimate, which does not.
+
+mod analytic;
+mod lm;
+mod table;
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::params::{Input, ParamKind};
+pub use table::{Strategy, TableSampling, table_samples};
+
+use crate::batch::{Directions, Quantity, evaluate};
+use crate::params::{Input, ModelSpec, ParamKind, ParamSpec, Params, Value};
 use crate::{BrdfError, Geometry, Model};
 
-/// Samples from which the residuals are evaluated on the rayon pool.
-const PARALLEL_MIN: usize = 4096;
+/// Iterations of each start of the multi-start before the best one runs to convergence.
+pub const MULTISTART_ITERATIONS: usize = 15;
+/// Largest subsample the starts of the multi-start are compared on.
+pub const MULTISTART_SAMPLES: usize = 2000;
+/// Most combinations of discrete choices [`fit_model`] searches.
+pub const MAX_CHOICE_COMBINATIONS: usize = 64;
 
 /// One measurement: directions (pointing away from the surface, any length > 0) and `f_r` [1/sr].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,477 +83,781 @@ pub struct Sample {
     pub f: Vec3,
 }
 
-/// Stopping rules of [`fit`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The error a fit minimises (see the module docs for the formulas and sources).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Loss {
+    /// `ln(1 + c f) − ln(1 + c d)` (Löw et al. 2012); the default.
+    Log,
+    /// `(c f)^⅓ − (c d)^⅓` (Forés et al. 2012).
+    CubeRoot,
+    /// `c (f − d)/(d + ε)`.
+    CosineRelative,
+    /// `f − d`.
+    Linear,
+}
+
+/// How [`fit_model`] computes the Jacobian.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Jacobian {
+    /// Analytic where [`analytic`] has the model, central differences otherwise.
+    Auto,
+    /// Central differences always.
+    FiniteDifference,
+}
+
+impl Loss {
+    /// The names [`Loss::from_name`] accepts, in the order of the variants.
+    pub const NAMES: &'static [&'static str] = &["log", "cube_root", "cosine_relative", "linear"];
+
+    /// The loss of a name; an error naming `loss` and listing the names otherwise.
+    pub fn from_name(name: &str) -> Result<Self, BrdfError> {
+        match name {
+            "log" => Ok(Self::Log),
+            "cube_root" => Ok(Self::CubeRoot),
+            "cosine_relative" => Ok(Self::CosineRelative),
+            "linear" => Ok(Self::Linear),
+            _ => Err(BrdfError::InvalidInput {
+                name: "loss",
+                problem: format!("expected one of {}, got {name:?}", Self::NAMES.join(", ")),
+            }),
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The residual of model value `f` against data `d` at cosine `c` (`eps`: the relative loss's floor).
+    #[inline]
+    fn residual(self, f: f64, d: f64, c: f64, eps: f64) -> f64 {
+        match self {
+            Loss::Log => (c * f).ln_1p() - (c * d).ln_1p(),
+            Loss::CubeRoot => (c * f).cbrt() - (c * d).cbrt(),
+            Loss::CosineRelative => c * (f - d) / (d + eps),
+            Loss::Linear => f - d,
+        }
+    }
+
+    /// `∂residual/∂f` at model value `f` (the cube root's is taken at `f ≥ 10⁻¹²`, where it is finite).
+    #[inline]
+    fn derivative(self, f: f64, d: f64, c: f64, eps: f64) -> f64 {
+        match self {
+            Loss::Log => c / (1.0 + c * f),
+            Loss::CubeRoot => c.cbrt() / (3.0 * f.max(1e-12).powf(2.0 / 3.0)),
+            Loss::CosineRelative => c / (d + eps),
+            Loss::Linear => 1.0,
+        }
+    }
+}
+
+/// What [`fit_model`] fits and how.
+#[derive(Debug, Clone, PartialEq)]
 pub struct FitOptions {
-    /// Most Levenberg–Marquardt iterations (each one Jacobian).
+    /// Parameters held at the given values (choices such as `distribution` go here).
+    pub fixed: Vec<(String, Input)>,
+    /// Starting values of free parameters (scalars and colours only); the others start at their
+    /// defaults and at the multi-start points.
+    pub start: Vec<(String, Input)>,
+    /// The error minimised.
+    pub loss: Loss,
+    /// A weight ≥ 0 per sample (its residuals are multiplied by `√w`), or `None` for 1.
+    pub weights: Option<Vec<f64>>,
+    /// Latin-hypercube starts in addition to the given start (0: only the given start).
+    pub multistart: usize,
+    /// Discrete choices to search: each combination of the listed values is fitted, the lowest cost kept.
+    pub choices: Vec<(String, Vec<String>)>,
+    /// Most Levenberg–Marquardt iterations of the final run (each one Jacobian).
     pub max_iterations: usize,
     /// Stop when an accepted step lowers the cost by less than this fraction.
     pub tolerance: f64,
+    /// How the Jacobian is computed.
+    pub jacobian: Jacobian,
 }
 
 impl Default for FitOptions {
     fn default() -> Self {
-        Self { max_iterations: 200, tolerance: 1e-12 }
+        Self {
+            fixed: Vec::new(),
+            start: Vec::new(),
+            loss: Loss::Log,
+            weights: None,
+            multistart: 8,
+            choices: Vec::new(),
+            max_iterations: 100,
+            tolerance: 1e-10,
+            jacobian: Jacobian::Auto,
+        }
     }
 }
 
-/// The outcome of [`fit`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct FitResult {
-    /// The fitted model (fixed parameters as given, the rest at their defaults).
-    pub model: Model,
-    /// The fitted values of the free parameters, in the order they were given (3 numbers for a color).
-    pub values: Vec<(String, Vec<f64>)>,
-    /// Root-mean-square of the log residuals `r_ic` at the solution (see the module docs).
-    pub rms_log_error: f64,
-    /// The `ε` used in the residuals [1/sr].
-    pub epsilon: f64,
-    /// Iterations run.
-    pub iterations: usize,
-    /// `true` when a stopping rule other than `max_iterations` ended the fit.
-    pub converged: bool,
-    /// Samples used (those with both directions above the surface).
-    pub samples_used: usize,
+/// Error figures of one RGB channel at the solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChannelError {
+    /// Root-mean-square of the residuals (of the loss, weights included).
+    pub rms: f64,
+    /// Largest absolute residual.
+    pub max: f64,
+    /// `√(Σ (f − d)² / Σ d²)` over the samples (no loss, no weights): the relative L2 error of the values.
+    pub relative_l2: f64,
 }
 
-/// One free parameter: its name, slots in the parameter vector, and bounds.
+/// The outcome of [`fit_model`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitReport {
+    /// The fitted model (fixed and inactive parameters as given or at their defaults).
+    pub model: Model,
+    /// The discrete choices of the best combination when [`FitOptions::choices`] was searched.
+    pub choices: Vec<(String, String)>,
+    /// The fitted values of the free parameters, in registry order (3 numbers for a colour).
+    pub values: Vec<(String, Vec<f64>)>,
+    /// Their standard errors `√diag((JᵀJ)⁻¹ σ²)` (same layout; NaN where not estimable: at a bound, or a
+    /// singular `JᵀJ`): right when every residual has the same spread.
+    pub stderr: Vec<(String, Vec<f64>)>,
+    /// The sandwich (heteroscedasticity-consistent) standard errors `√diag(A⁻¹ (Σ r² J Jᵀ) A⁻¹ m/(m−k))`,
+    /// `A = JᵀJ` (P. J. Huber, 5th Berkeley Symposium 1967; H. White, Econometrica 48(4), 1980, with
+    /// MacKinnon & White's m/(m−k)): right also when the spread varies, e.g. multiplicative noise under the
+    /// log loss.
+    pub stderr_robust: Vec<(String, Vec<f64>)>,
+    /// Free values that ended on a bound of their range: `name` or `name[channel]`, and the bound.
+    pub at_bound: Vec<(String, f64)>,
+    /// Continuous parameters held at their defaults because they do not change the model.
+    pub inactive: Vec<String>,
+    /// The loss minimised.
+    pub loss: Loss,
+    /// `½ Σ r²` at the solution.
+    pub cost: f64,
+    /// Per RGB channel error figures.
+    pub channels: [ChannelError; 3],
+    /// RMS of `ln(f + ε) − ln(d + ε)` with `ε = 0.01·mean(d)` (the figure of earlier versions).
+    pub rms_log_error: f64,
+    /// That `ε` [1/sr].
+    pub epsilon: f64,
+    /// Iterations of the final run.
+    pub iterations: usize,
+    /// `true` when a stopping rule other than the iteration limit ended the final run.
+    pub converged: bool,
+    /// Why it stopped, in words.
+    pub message: String,
+    /// Samples used (those with both directions above the surface).
+    pub samples_used: usize,
+    /// Starts tried (the given one and the multi-start points).
+    pub starts: usize,
+    /// The cost of every combination of choices tried (empty without a search).
+    pub tried: Vec<(Vec<(String, String)>, f64)>,
+    /// `"analytic"` or `"finite_difference"`: how the Jacobian was computed.
+    pub jacobian: &'static str,
+}
+
+/// One free parameter: its name, whether a colour, its bounds and whether the caller gave its start.
+#[derive(Debug, Clone)]
 struct Free {
-    name: String,
+    name: &'static str,
     color: bool,
     lo: f64,
     hi: f64,
+    started: bool,
+}
+
+impl Free {
+    fn width(&self) -> usize {
+        if self.color { 3 } else { 1 }
+    }
+}
+
+/// The samples of a fit, as the batch evaluator reads them, with their targets.
+#[derive(Clone)]
+struct Data {
+    ls: Vec<Vec3>,
+    vs: Vec<Vec3>,
+    ns: Vec<Vec3>,
+    d: Vec<Vec3>,
+    cos: Vec<f64>,
+    sqrt_w: Vec<f64>,
+}
+
+impl Data {
+    fn len(&self) -> usize {
+        self.ls.len()
+    }
+
+    /// Every `stride`-th sample.
+    fn every(&self, stride: usize) -> Data {
+        let pick = |v: &Vec<Vec3>| v.iter().step_by(stride).copied().collect::<Vec<_>>();
+        Data {
+            ls: pick(&self.ls),
+            vs: pick(&self.vs),
+            ns: pick(&self.ns),
+            d: pick(&self.d),
+            cos: self.cos.iter().step_by(stride).copied().collect(),
+            sqrt_w: self.sqrt_w.iter().step_by(stride).copied().collect(),
+        }
+    }
+
+    /// `f_r` of `model` at every sample (the batch evaluator: parallel over samples, same bits).
+    fn eval(&self, model: &Model) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; self.len()];
+        // The slices all have the batch length, so this cannot fail.
+        if let Ok((dirs, _)) = Directions::new(&self.ls, &self.vs, &self.ns, None) {
+            evaluate(model, &dirs, Quantity::Brdf, &mut out);
+        }
+        out
+    }
 }
 
 struct Problem<'a> {
     name: &'a str,
-    fixed: &'a [(String, Input)],
+    base: Vec<(String, Input)>,
     free: Vec<Free>,
-    geoms: Vec<Geometry>,
-    target: Vec<f64>,
+    data: Data,
+    loss: Loss,
     eps: f64,
+    analytic: Option<analytic::Analytic>,
 }
 
 impl Problem<'_> {
     fn inputs(&self, p: &[f64]) -> Vec<(String, Input)> {
-        let mut inputs = self.fixed.to_vec();
+        let mut inputs = self.base.clone();
         let mut at = 0;
         for f in &self.free {
-            if f.color {
-                inputs.push((f.name.clone(), Input::Numbers(p[at..at + 3].to_vec())));
-                at += 3;
-            } else {
-                inputs.push((f.name.clone(), Input::Number(p[at])));
-                at += 1;
-            }
+            inputs.push((
+                f.name.to_string(),
+                if f.color { Input::Numbers(p[at..at + 3].to_vec()) } else { Input::Number(p[at]) },
+            ));
+            at += f.width();
         }
         inputs
     }
 
     fn bounds(&self) -> Vec<(f64, f64)> {
-        self.free
-            .iter()
-            .flat_map(|f| std::iter::repeat_n((f.lo, f.hi), if f.color { 3 } else { 1 }))
-            .collect()
+        self.free.iter().flat_map(|f| std::iter::repeat_n((f.lo, f.hi), f.width())).collect()
     }
 
     /// Residuals at `p`, or `None` when the model refuses the combination of values.
     fn residuals(&self, p: &[f64]) -> Option<Vec<f64>> {
         let m = Model::build(self.name, &self.inputs(p)).ok()?;
-        let mut r = vec![0.0; self.target.len()];
-        let one = |(out, (g, t)): (&mut [f64], (&Geometry, &[f64]))| {
-            let f = m.eval(g);
-            for c in 0..3 {
-                out[c] = (f64::from(f[c]).max(0.0) + self.eps).ln() - t[c];
+        let f = self.data.eval(&m);
+        let mut r = Vec::with_capacity(3 * f.len());
+        for (i, fi) in f.iter().enumerate() {
+            let (d, c, w) = (self.data.d[i], self.data.cos[i], self.data.sqrt_w[i]);
+            for k in 0..3 {
+                let fm = f64::from(fi[k]).max(0.0);
+                r.push(w * self.loss.residual(fm, f64::from(d[k]), c, self.eps));
             }
-        };
-        // Each residual depends on its sample only, so the parallel loop gives the same bits.
-        if self.geoms.len() >= PARALLEL_MIN {
-            r.par_chunks_mut(3).zip(self.geoms.par_iter().zip(self.target.par_chunks(3))).for_each(one);
-        } else {
-            r.chunks_mut(3).zip(self.geoms.iter().zip(self.target.chunks(3))).for_each(one);
         }
         r.iter().all(|x| x.is_finite()).then_some(r)
     }
-}
 
-fn cost(r: &[f64]) -> f64 {
-    0.5 * r.iter().map(|x| x * x).sum::<f64>()
-}
-
-/// Solve `a x = b` (k×k, row-major) by Gaussian elimination with partial pivoting; `None` if singular.
-fn solve(mut a: Vec<f64>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let k = b.len();
-    for col in 0..k {
-        let piv = (col..k).max_by(|&i, &j| a[i * k + col].abs().total_cmp(&a[j * k + col].abs()))?;
-        if a[piv * k + col].abs() < 1e-300 {
-            return None;
-        }
-        if piv != col {
-            for c in 0..k {
-                a.swap(piv * k + c, col * k + c);
+    /// The Jacobian's columns at `p`: analytic when the problem has one, else central differences.
+    fn jacobian(&self, p: &[f64]) -> Vec<Vec<f64>> {
+        let m = 3 * self.data.len();
+        let fd = || lm::jacobian(&|q: &[f64]| self.residuals(q), p, &self.bounds(), m);
+        let Some(a) = self.analytic else { return fd() };
+        let Ok(model) = Model::build(self.name, &self.inputs(p)) else { return fd() };
+        let k = p.len();
+        let f = self.data.eval(&model);
+        let jf = a.model_jacobian(&model, &self.free, p, &self.data);
+        let mut cols = vec![vec![0.0; m]; k];
+        for (i, fi) in f.iter().enumerate() {
+            let (d, c, w) = (self.data.d[i], self.data.cos[i], self.data.sqrt_w[i]);
+            for ch in 0..3 {
+                let s = w * self.loss.derivative(f64::from(fi[ch]).max(0.0), f64::from(d[ch]), c, self.eps);
+                let row = &jf[(3 * i + ch) * k..(3 * i + ch + 1) * k];
+                for (col, x) in cols.iter_mut().zip(row) {
+                    col[3 * i + ch] = s * x;
+                }
             }
-            b.swap(piv, col);
         }
-        for row in col + 1..k {
-            let f = a[row * k + col] / a[col * k + col];
-            for c in col..k {
-                a[row * k + c] -= f * a[col * k + c];
-            }
-            b[row] -= f * b[col];
-        }
+        cols
     }
-    let mut x = vec![0.0; k];
-    for row in (0..k).rev() {
-        let s: f64 = (row + 1..k).map(|c| a[row * k + c] * x[c]).sum();
-        x[row] = (b[row] - s) / a[row * k + row];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
-/// `p + α·δ` inside `bounds`. A component already at a bound and pushed outward is held (the active
-/// set); otherwise the step is shortened so that no component goes more than 90 % of its way to its
-/// bound ("fraction to the boundary", Nocedal & Wright, *Numerical Optimization* §16.6). Clamping the
-/// full step instead lets one overshooting step throw e.g. a roughness onto 0, where the lobe vanishes
-/// from every sample and the gradient with it.
-fn bounded_step(p: &[f64], delta: &[f64], bounds: &[(f64, f64)]) -> Vec<f64> {
-    let mut d = delta.to_vec();
-    let mut alpha: f64 = 1.0;
-    for ((x, dj), (lo, hi)) in p.iter().zip(d.iter_mut()).zip(bounds) {
-        let room = if *dj < 0.0 { x - lo } else { hi - x };
-        if room <= 0.0 {
-            *dj = 0.0;
-        } else if dj.abs() > room {
-            alpha = alpha.min(0.9 * room / dj.abs());
-        }
+/// `x` at the fraction `u ∈ [0, 1]` of the range `[lo, hi]` for the multi-start and the activity probe:
+/// logarithmic for ranges reaching 20 (exponents), quadratic toward 0 for `[0, hi]` (roughness-like),
+/// uniform otherwise.
+fn map_unit(lo: f64, hi: f64, u: f64) -> f64 {
+    let a = lo.max(1.0);
+    if lo >= 0.0 && hi >= 20.0 && hi > a {
+        (a.ln() + u * (hi.ln() - a.ln())).exp().clamp(lo, hi)
+    } else if lo == 0.0 {
+        hi * u * u
+    } else {
+        lo + (hi - lo) * u
     }
-    p.iter().zip(&d).zip(bounds).map(|((x, dj), (lo, hi))| (x + alpha * dj).clamp(*lo, *hi)).collect()
 }
 
-/// Fit the parameters named in `start` of registry model `name` to `samples`.
-///
-/// - `fixed`: parameters held at the given values (the others not in `start` keep their defaults);
-/// - `start`: the free parameters and their starting values; scalar and color parameters only (a
-///   color is fitted per channel). Values are kept inside the registry ranges.
-///
-/// Errors: unknown model or parameter, a parameter both fixed and free, a choice/flag/array parameter
-/// in `start`, a start value out of range, non-finite or negative sample values, or no sample with both
-/// directions above the surface.
-pub fn fit(
-    name: &str,
-    fixed: &[(String, Input)],
-    start: &[(String, Input)],
-    samples: &[Sample],
-    options: &FitOptions,
-) -> Result<FitResult, BrdfError> {
-    let spec = crate::models::spec(name).ok_or_else(|| {
+fn spec_of(name: &str) -> Result<&'static ModelSpec, BrdfError> {
+    crate::models::spec(name).ok_or_else(|| {
         // Let the registry produce its usual message listing the known names.
         Model::build(name, &[]).err().unwrap_or_else(|| BrdfError::param("model", "unknown model"))
-    })?;
-    if start.is_empty() {
-        return Err(BrdfError::InvalidInput {
-            name: "start",
-            problem: "name at least one parameter to fit, with its starting value".into(),
-        });
-    }
-    let mut free = Vec::new();
-    let mut p0 = Vec::new();
-    for (pname, input) in start {
-        if fixed.iter().any(|(f, _)| f == pname) {
-            return Err(BrdfError::param(pname.clone(), "is both fixed and free (in start)"));
-        }
-        if free.iter().any(|f: &Free| &f.name == pname) {
-            return Err(BrdfError::param(pname.clone(), "appears twice in start"));
-        }
-        let Some(ps) = spec.params.iter().find(|p| p.name == pname) else {
-            // Model::build names the model's parameters in its message.
-            return Err(Model::build(name, &[(pname.clone(), input.clone())])
+    })
+}
+
+/// The spec of parameter `pname` of `spec`, or the registry's error (naming the model's parameters)
+/// under the argument `arg`.
+fn param_of(
+    spec: &'static ModelSpec,
+    arg: &'static str,
+    pname: &str,
+    input: &Input,
+) -> Result<&'static ParamSpec, BrdfError> {
+    let wrap = |e: BrdfError| BrdfError::InvalidInput { name: arg, problem: e.to_string() };
+    let Some(ps) = spec.params.iter().find(|p| p.name == pname) else {
+        return Err(wrap(
+            Model::build(spec.name, &[(pname.to_string(), input.clone())])
                 .err()
-                .unwrap_or_else(|| BrdfError::param(pname.clone(), "unknown parameter")));
-        };
-        let value = ps.validate(input)?;
-        match (ps.kind, value) {
-            (ParamKind::Scalar, crate::params::Value::Scalar(x)) => p0.push(f64::from(x)),
-            (ParamKind::Color, crate::params::Value::Color(c)) => p0.extend(c.iter().map(|&x| f64::from(x))),
-            _ => {
-                return Err(BrdfError::param(
-                    pname.clone(),
-                    "only scalar and color parameters can be fitted; pass choices and flags in fixed",
-                ));
-            }
-        }
-        free.push(Free {
-            name: pname.clone(),
-            color: ps.kind == ParamKind::Color,
-            lo: f64::from(ps.min),
-            hi: f64::from(ps.max),
-        });
-    }
+                .unwrap_or_else(|| BrdfError::param(pname, "unknown parameter")),
+        ));
+    };
+    ps.validate(input).map_err(wrap)?;
+    Ok(ps)
+}
+
+/// Check the samples and options, drop samples below the horizon.
+fn prepare(samples: &[Sample], weights: Option<&[f64]>) -> Result<Data, BrdfError> {
     if let Some(i) = samples.iter().position(|s| !s.f.is_finite() || s.f.min_element() < 0.0) {
         return Err(BrdfError::InvalidInput {
             name: "values",
             problem: format!("must be finite and >= 0; row {i} is {}", samples[i].f),
         });
     }
-    let mut geoms = Vec::new();
-    let mut data = Vec::new();
-    for s in samples {
-        if let Some(g) = Geometry::new(s.l, s.v, s.n, None).filter(Geometry::both_above) {
-            geoms.push(g);
-            data.extend(s.f.to_array().map(f64::from));
+    if let Some(w) = weights {
+        if w.len() != samples.len() {
+            return Err(BrdfError::InvalidInput {
+                name: "weights",
+                problem: format!("expected one weight per sample ({}), got {}", samples.len(), w.len()),
+            });
+        }
+        if let Some(i) = w.iter().position(|x| !x.is_finite() || *x < 0.0) {
+            return Err(BrdfError::InvalidInput {
+                name: "weights",
+                problem: format!("must be finite and >= 0; weight {i} is {}", w[i]),
+            });
         }
     }
-    if geoms.is_empty() {
+    let mut data = Data { ls: vec![], vs: vec![], ns: vec![], d: vec![], cos: vec![], sqrt_w: vec![] };
+    for (i, s) in samples.iter().enumerate() {
+        if let Some(g) = Geometry::new(s.l, s.v, s.n, None).filter(Geometry::both_above) {
+            data.ls.push(s.l);
+            data.vs.push(s.v);
+            data.ns.push(s.n);
+            data.d.push(s.f);
+            data.cos.push(f64::from(g.nl));
+            data.sqrt_w.push(weights.map_or(1.0, |w| w[i].sqrt()));
+        }
+    }
+    if data.ls.is_empty() {
         return Err(BrdfError::InvalidInput {
             name: "samples",
             problem: "no sample has both l and v above the surface".into(),
         });
     }
-    let mean = data.iter().sum::<f64>() / data.len() as f64;
+    if data.d.iter().all(|d| d.max_element() == 0.0) {
+        return Err(BrdfError::InvalidInput {
+            name: "values",
+            problem: "every value above the surface is 0: there is nothing to fit".into(),
+        });
+    }
+    if data.sqrt_w.iter().all(|w| *w == 0.0) {
+        return Err(BrdfError::InvalidInput {
+            name: "weights",
+            problem: "every sample above the surface has weight 0".into(),
+        });
+    }
+    Ok(data)
+}
+
+/// Fit registry model `name` to `samples` (see the module docs).
+///
+/// Errors (each naming the argument): unknown model; a parameter in `fixed`, `start` or `choices` the model
+/// does not have, or out of its range; a choice or flag in `start`; a parameter both fixed and started or
+/// searched; non-finite or negative values or weights; no sample above the surface, all values 0, fewer
+/// residuals than free values; nothing left to fit.
+pub fn fit_model(name: &str, samples: &[Sample], options: &FitOptions) -> Result<FitReport, BrdfError> {
+    let spec = spec_of(name)?;
+    for (i, (pname, input)) in options.fixed.iter().enumerate() {
+        param_of(spec, "fixed", pname, input)?;
+        if options.fixed[..i].iter().any(|(q, _)| q == pname) {
+            return Err(BrdfError::InvalidInput {
+                name: "fixed",
+                problem: format!("{pname:?} appears twice"),
+            });
+        }
+    }
+    for (i, (pname, input)) in options.start.iter().enumerate() {
+        let ps = param_of(spec, "start", pname, input)?;
+        if !matches!(ps.kind, ParamKind::Scalar | ParamKind::Color) {
+            return Err(BrdfError::InvalidInput {
+                name: "start",
+                problem: format!(
+                    "{pname:?} is not a number: only scalar and color parameters can be fitted; pass choices \
+                     and flags in fixed (or search choices with choices=)"
+                ),
+            });
+        }
+        if options.fixed.iter().any(|(f, _)| f == pname) {
+            return Err(BrdfError::InvalidInput {
+                name: "start",
+                problem: format!("{pname:?} is both fixed and free (in start)"),
+            });
+        }
+        if options.start[..i].iter().any(|(q, _)| q == pname) {
+            return Err(BrdfError::InvalidInput {
+                name: "start",
+                problem: format!("{pname:?} appears twice"),
+            });
+        }
+    }
+    let mut combos: Vec<Vec<(String, String)>> = vec![vec![]];
+    for (cname, values) in &options.choices {
+        let bad = |problem: String| BrdfError::InvalidInput { name: "choices", problem };
+        let ps = spec
+            .params
+            .iter()
+            .find(|p| p.name == cname.as_str())
+            .ok_or_else(|| bad(format!("{name} has no parameter {cname:?}")))?;
+        if !matches!(ps.kind, ParamKind::Choice(_)) {
+            return Err(bad(format!("{cname:?} is not a discrete choice of {name}")));
+        }
+        if options.fixed.iter().any(|(f, _)| f == cname) {
+            return Err(bad(format!("{cname:?} is both fixed and searched")));
+        }
+        if values.is_empty() {
+            return Err(bad(format!("{cname:?}: give at least one value")));
+        }
+        for v in values {
+            ps.validate(&Input::Text(v.clone())).map_err(|e| bad(e.to_string()))?;
+        }
+        combos = combos
+            .into_iter()
+            .flat_map(|c| {
+                values.iter().map(move |v| {
+                    let mut c = c.clone();
+                    c.push((cname.clone(), v.clone()));
+                    c
+                })
+            })
+            .collect();
+        if combos.len() > MAX_CHOICE_COMBINATIONS {
+            return Err(bad(format!("more than {MAX_CHOICE_COMBINATIONS} combinations of choices")));
+        }
+    }
+    let data = prepare(samples, options.weights.as_deref())?;
+    let mean = data.d.iter().map(|d| f64::from(d.x + d.y + d.z)).sum::<f64>() / (3 * data.len()) as f64;
     let eps = (0.01 * mean).max(1e-12);
-    let target: Vec<f64> = data.iter().map(|x| (x + eps).ln()).collect();
-    let problem = Problem { name, fixed, free, geoms, target, eps };
+
+    let mut best: Option<FitReport> = None;
+    let mut tried = Vec::new();
+    for combo in &combos {
+        let mut base = options.fixed.clone();
+        base.extend(combo.iter().map(|(k, v)| (k.clone(), Input::Text(v.clone()))));
+        let mut rep = fit_one(spec, base, &data, eps, options)?;
+        rep.choices = combo.clone();
+        tried.push((combo.clone(), rep.cost));
+        // The first of equal costs wins (the order of the lists): deterministic.
+        if best.as_ref().is_none_or(|b| rep.cost < b.cost) {
+            best = Some(rep);
+        }
+    }
+    let mut rep = best.expect("at least one combination");
+    if !options.choices.is_empty() {
+        rep.tried = tried;
+    }
+    Ok(rep)
+}
+
+/// Whether changing parameter `ps` changes the model at the base point on the probe samples.
+fn is_active(spec: &ModelSpec, base: &[(String, Input)], ps: &ParamSpec, probe: &Data, f0: &[Vec3]) -> bool {
+    let scale = f0.iter().map(|f| f.max_element()).fold(0.0f32, f32::max);
+    let tol = 1e-5 * scale.max(1e-30);
+    let (lo, hi) = (f64::from(ps.min), f64::from(ps.max));
+    for u in [0.3, 0.7] {
+        let x = map_unit(lo, hi, u);
+        let mut inputs = base.to_vec();
+        inputs.push((ps.name.to_string(), Input::Number(x)));
+        let Ok(m) = Model::build(spec.name, &inputs) else { continue };
+        let f = probe.eval(&m);
+        if f.iter().zip(f0).any(|(a, b)| (*a - *b).abs().max_element() > tol) {
+            return true;
+        }
+    }
+    false
+}
+
+fn fit_one(
+    spec: &'static ModelSpec,
+    base: Vec<(String, Input)>,
+    data: &Data,
+    eps: f64,
+    options: &FitOptions,
+) -> Result<FitReport, BrdfError> {
+    let name = spec.name;
+    // The fixed values together must build (one message naming `fixed`).
+    Model::build(name, &base)
+        .map_err(|e| BrdfError::InvalidInput { name: "fixed", problem: e.to_string() })?;
+    // Activity is probed at the defaults with the fixed choices and flags only: a fixed number (say a
+    // roughness) must not switch on a term (a second lobe whose default roughness now differs).
+    let structural: Vec<(String, Input)> =
+        base.iter().filter(|(_, i)| matches!(i, Input::Text(_) | Input::Bool(_))).cloned().collect();
+    let probe_model = Model::build(name, &structural)?;
+    let probe = data.every(data.len().div_ceil(64).max(1));
+    let f_base = probe.eval(&probe_model);
+    let mut free = Vec::new();
+    let mut inactive = Vec::new();
+    for ps in spec.params {
+        if !matches!(ps.kind, ParamKind::Scalar | ParamKind::Color) || base.iter().any(|(n, _)| n == ps.name)
+        {
+            continue;
+        }
+        let started = options.start.iter().any(|(n, _)| n == ps.name);
+        if started || is_active(spec, &structural, ps, &probe, &f_base) {
+            free.push(Free {
+                name: ps.name,
+                color: ps.kind == ParamKind::Color,
+                lo: f64::from(ps.min),
+                hi: f64::from(ps.max),
+                started,
+            });
+        } else {
+            inactive.push(ps.name.to_string());
+        }
+    }
+    if free.is_empty() {
+        return Err(BrdfError::InvalidInput {
+            name: "fixed",
+            problem: format!(
+                "every continuous parameter of {name} is fixed or has no effect: nothing to fit"
+            ),
+        });
+    }
+    let k: usize = free.iter().map(Free::width).sum();
+    if 3 * data.len() < k {
+        return Err(BrdfError::InvalidInput {
+            name: "samples",
+            problem: format!(
+                "{} samples above the surface give {} residuals, fewer than the {k} free values",
+                data.len(),
+                3 * data.len()
+            ),
+        });
+    }
+    // The given start, the defaults (with the fixed values' derived defaults) for the rest.
+    let mut start_inputs = base.clone();
+    start_inputs.extend(options.start.iter().cloned());
+    let params = Params::resolve(spec, &start_inputs)?;
+    let mut p0 = Vec::with_capacity(k);
+    for f in &free {
+        match params.values().iter().find(|(n, _)| *n == f.name).map(|(_, v)| v) {
+            Some(Value::Scalar(x)) => p0.push(f64::from(*x)),
+            Some(Value::Color(c)) => p0.extend(c.iter().map(|&x| f64::from(x))),
+            _ => unreachable!("free parameters are scalars and colours"),
+        }
+    }
+    let analytic = match options.jacobian {
+        Jacobian::Auto => {
+            Model::build(name, &start_inputs).ok().and_then(|m| analytic::Analytic::for_problem(&m, &free))
+        }
+        Jacobian::FiniteDifference => None,
+    };
+    let problem = Problem { name, base, free, data: data.clone(), loss: options.loss, eps, analytic };
     let bounds = problem.bounds();
 
-    let mut p = p0;
-    // The starting point must build (fixed values are validated here too).
-    Model::build(name, &problem.inputs(&p))?;
-    let mut r = problem.residuals(&p).ok_or_else(|| {
-        BrdfError::param("start", "the model gives non-finite values at the starting point")
-    })?;
-    let mut c = cost(&r);
-    let k = p.len();
-    let m = r.len();
-    let mut lambda = 1e-3;
-    let mut converged = false;
-    let mut iterations = 0;
-    while iterations < options.max_iterations {
-        iterations += 1;
-        // Central differences, one-sided at a bound. The step is relative to the value, floored by the
-        // range so that a parameter at 0 still moves (f32 evaluation: too small a step is all noise).
-        let mut jac = vec![0.0; m * k];
-        for j in 0..k {
-            let (lo, hi) = bounds[j];
-            let h = 1e-3 * p[j].abs().max(1e-2 * (hi - lo).min(100.0));
-            let (a, b) = ((p[j] - h).max(lo), (p[j] + h).min(hi));
-            if b <= a {
-                continue;
-            }
-            let (mut pa, mut pb) = (p.clone(), p.clone());
-            pa[j] = a;
-            pb[j] = b;
-            let (Some(ra), Some(rb)) = (problem.residuals(&pa), problem.residuals(&pb)) else { continue };
-            for i in 0..m {
-                jac[i * k + j] = (rb[i] - ra[i]) / (b - a);
-            }
-        }
-        let mut jtj = vec![0.0; k * k];
-        let mut jtr = vec![0.0; k];
-        for i in 0..m {
-            let row = &jac[i * k..(i + 1) * k];
-            for a in 0..k {
-                jtr[a] += row[a] * r[i];
-                for b in 0..k {
-                    jtj[a * k + b] += row[a] * row[b];
+    // Latin-hypercube starts over the parameters without a given start.
+    let mut candidates = vec![p0.clone()];
+    if options.multistart > 0 && problem.free.iter().any(|f| !f.started) {
+        let s = options.multistart;
+        let mut rng = table::SplitMix(0x0F17_5EED);
+        let mut points = vec![p0.clone(); s];
+        let mut at = 0;
+        for f in &problem.free {
+            if !f.started {
+                let mut perm: Vec<usize> = (0..s).collect();
+                for i in (1..s).rev() {
+                    perm.swap(i, (rng.next_f64() * (i + 1) as f64) as usize % (i + 1));
                 }
-            }
-        }
-        let mut accepted = false;
-        while lambda < 1e12 {
-            let mut a = jtj.clone();
-            for d in 0..k {
-                a[d * k + d] += lambda * jtj[d * k + d].max(1e-12);
-            }
-            let Some(delta) = solve(a, jtr.iter().map(|x| -x).collect()) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let trial = bounded_step(&p, &delta, &bounds);
-            match problem.residuals(&trial) {
-                Some(rt) if cost(&rt) < c => {
-                    let ct = cost(&rt);
-                    let gain = (c - ct) / c.max(1e-300);
-                    p = trial;
-                    r = rt;
-                    c = ct;
-                    lambda = (lambda / 3.0).max(1e-12);
-                    accepted = true;
-                    if gain < options.tolerance {
-                        converged = true;
+                for (pt, cell) in points.iter_mut().zip(&perm) {
+                    let u = (*cell as f64 + 0.25 + 0.5 * rng.next_f64()) / s as f64;
+                    let x = map_unit(f.lo, f.hi, u);
+                    for c in 0..f.width() {
+                        pt[at + c] = x;
                     }
-                    break;
                 }
-                _ => lambda *= 4.0,
             }
+            at += f.width();
         }
-        if !accepted || c < 1e-30 {
-            // No step lowers the cost: a (bounded) minimum.
-            converged = true;
-        }
-        if converged {
-            break;
+        candidates.extend(points);
+    }
+    let starts = candidates.len();
+    let mut p_best = p0;
+    if starts > 1 {
+        let sub = Problem {
+            name,
+            base: problem.base.clone(),
+            free: problem.free.clone(),
+            data: data.every(data.len().div_ceil(MULTISTART_SAMPLES).max(1)),
+            loss: options.loss,
+            eps,
+            analytic: problem.analytic,
+        };
+        let res = |p: &[f64]| sub.residuals(p);
+        let jac = |p: &[f64]| sub.jacobian(p);
+        let runs: Vec<Option<(f64, Vec<f64>)>> = candidates
+            .par_iter()
+            .map(|c| {
+                let r0 = sub.residuals(c)?;
+                let o =
+                    lm::solve(&res, &jac, c.clone(), r0, &bounds, MULTISTART_ITERATIONS, options.tolerance);
+                Some((o.cost, o.p))
+            })
+            .collect();
+        let mut best_cost = f64::INFINITY;
+        for (c, p) in runs.into_iter().flatten() {
+            if c < best_cost {
+                best_cost = c;
+                p_best = p;
+            }
         }
     }
+    let r0 = problem.residuals(&p_best).ok_or_else(|| BrdfError::InvalidInput {
+        name: "start",
+        problem: "the model gives non-finite values at the starting point".into(),
+    })?;
+    let res = |p: &[f64]| problem.residuals(p);
+    let jac = |p: &[f64]| problem.jacobian(p);
+    let out = lm::solve(&res, &jac, p_best, r0, &bounds, options.max_iterations, options.tolerance);
+    report(&problem, out, inactive, starts)
+}
 
-    let model = Model::build(name, &problem.inputs(&p))?;
+fn report(
+    problem: &Problem<'_>,
+    out: lm::Outcome,
+    inactive: Vec<String>,
+    starts: usize,
+) -> Result<FitReport, BrdfError> {
+    let p = &out.p;
+    let model = Model::build(problem.name, &problem.inputs(p))?;
+    let bounds = problem.bounds();
+    let k = p.len();
+    let m = out.r.len();
+    // Values on a bound, by name.
+    let mut at_bound = Vec::new();
+    let mut slot_names = Vec::new();
+    for f in &problem.free {
+        for c in 0..f.width() {
+            slot_names.push(if f.color { format!("{}[{c}]", f.name) } else { f.name.to_string() });
+        }
+    }
+    let on_bound: Vec<Option<f64>> = p
+        .iter()
+        .zip(&bounds)
+        .map(|(&x, &(lo, hi))| {
+            let tol = 1e-6 * (hi - lo);
+            if x - lo <= tol {
+                Some(lo)
+            } else if hi - x <= tol {
+                Some(hi)
+            } else {
+                None
+            }
+        })
+        .collect();
+    for (n, b) in slot_names.iter().zip(&on_bound) {
+        if let Some(b) = b {
+            at_bound.push((n.clone(), *b));
+        }
+    }
+    // Standard errors over the values inside their ranges: the Gauss–Newton covariance A⁻¹σ² (A = JᵀJ)
+    // and the sandwich A⁻¹ (Σ r² J Jᵀ) A⁻¹ · m/(m − k), which stays right when the residuals' spread
+    // varies from sample to sample.
+    let mut se = vec![f64::NAN; k];
+    let mut se_robust = vec![f64::NAN; k];
+    let inside: Vec<usize> = (0..k).filter(|&j| on_bound[j].is_none()).collect();
+    if m > k && !inside.is_empty() {
+        let jac = problem.jacobian(p);
+        let sub: Vec<Vec<f64>> = inside.iter().map(|&j| jac[j].clone()).collect();
+        let (jtj, _) = lm::normal_equations(&sub, &out.r);
+        let sigma2 = 2.0 * out.cost / (m - k) as f64;
+        let n = inside.len();
+        let inv: Option<Vec<Vec<f64>>> = (0..n)
+            .map(|a| {
+                let mut e = vec![0.0; n];
+                e[a] = 1.0;
+                lm::linear_solve(jtj.clone(), e)
+            })
+            .collect();
+        if let Some(inv) = inv {
+            let weighted: Vec<Vec<f64>> =
+                sub.iter().map(|c| c.iter().zip(&out.r).map(|(x, r)| x * r).collect()).collect();
+            let (meat, _) = lm::normal_equations(&weighted, &out.r);
+            let hc1 = m as f64 / (m - k) as f64;
+            for (a, &j) in inside.iter().enumerate() {
+                se[j] = (inv[a][a].max(0.0) * sigma2).sqrt();
+                let mut v = 0.0;
+                for b in 0..n {
+                    for c in 0..n {
+                        v += inv[a][b] * meat[b * n + c] * inv[c][a];
+                    }
+                }
+                se_robust[j] = (v.max(0.0) * hc1).sqrt();
+            }
+        }
+    }
     let mut values = Vec::new();
+    let mut stderr = Vec::new();
+    let mut stderr_robust = Vec::new();
     let mut at = 0;
     for f in &problem.free {
-        let w = if f.color { 3 } else { 1 };
-        values.push((f.name.clone(), p[at..at + w].to_vec()));
-        at += w;
+        values.push((f.name.to_string(), p[at..at + f.width()].to_vec()));
+        stderr.push((f.name.to_string(), se[at..at + f.width()].to_vec()));
+        stderr_robust.push((f.name.to_string(), se_robust[at..at + f.width()].to_vec()));
+        at += f.width();
     }
-    Ok(FitResult {
+    // Error figures.
+    let data = &problem.data;
+    let fm = data.eval(&model);
+    let mut channels = [ChannelError { rms: 0.0, max: 0.0, relative_l2: 0.0 }; 3];
+    let (mut num, mut den) = ([0.0f64; 3], [0.0f64; 3]);
+    let log_eps = problem.eps;
+    let mut log_sq = 0.0;
+    for (i, f) in fm.iter().enumerate() {
+        for c in 0..3 {
+            let r = out.r[3 * i + c];
+            channels[c].rms += r * r;
+            channels[c].max = channels[c].max.max(r.abs());
+            let (a, b) = (f64::from(f[c]).max(0.0), f64::from(data.d[i][c]));
+            num[c] += (a - b) * (a - b);
+            den[c] += b * b;
+            let lr = (a + log_eps).ln() - (b + log_eps).ln();
+            log_sq += lr * lr;
+        }
+    }
+    let n = fm.len() as f64;
+    for ((ch, num), den) in channels.iter_mut().zip(num).zip(den) {
+        ch.rms = (ch.rms / n).sqrt();
+        ch.relative_l2 = if den > 0.0 { (num / den).sqrt() } else { num.sqrt() };
+    }
+    Ok(FitReport {
         model,
+        choices: Vec::new(),
         values,
-        rms_log_error: (2.0 * c / m as f64).sqrt(),
-        epsilon: eps,
-        iterations,
-        converged,
-        samples_used: problem.geoms.len(),
+        stderr,
+        stderr_robust,
+        at_bound,
+        inactive,
+        loss: problem.loss,
+        cost: out.cost,
+        channels,
+        rms_log_error: (log_sq / (3.0 * n)).sqrt(),
+        epsilon: log_eps,
+        iterations: out.iterations,
+        converged: out.stop.converged(),
+        message: out.stop.message().to_string(),
+        samples_used: fm.len(),
+        starts,
+        tried: Vec::new(),
+        jacobian: if problem.analytic.is_some() { "analytic" } else { "finite_difference" },
     })
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A small deterministic generator (SplitMix64) so the tests do not depend on a crate.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn normal(&mut self) -> f64 {
-            let (u, v) = (self.next().max(1e-300), self.next());
-            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-        }
-        fn hemisphere(&mut self) -> Vec3 {
-            // Uniform in solid angle over the upper hemisphere, kept off grazing (θ < 80°).
-            let z = 0.18 + 0.82 * self.next();
-            let phi = std::f64::consts::TAU * self.next();
-            let s = (1.0 - z * z).sqrt();
-            Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32)
-        }
-    }
-
-    fn samples(model: &Model, count: usize, noise: f64, seed: u64) -> Vec<Sample> {
-        let mut rng = Rng(seed);
-        (0..count)
-            .map(|i| {
-                let l = rng.hemisphere();
-                // Half the views near the mirror direction, so the peak is sampled as a gonioreflectometer
-                // scan around it would.
-                let v = if i % 2 == 0 {
-                    let r = Vec3::new(-l.x, -l.y, l.z);
-                    (r + 0.3 * rng.hemisphere()).normalize()
-                } else {
-                    rng.hemisphere()
-                };
-                let g = Geometry::new(l, v, Vec3::Z, None).unwrap();
-                let f =
-                    model.eval(&g) * Vec3::from_array([0, 1, 2].map(|_| (noise * rng.normal()).exp() as f32));
-                Sample { l, v, n: Vec3::Z, f }
-            })
-            .collect()
-    }
-
-    fn num(x: f64) -> Input {
-        Input::Number(x)
-    }
-
-    #[test]
-    fn cook_torrance_parameters_are_recovered_from_a_different_start() {
-        let fixed = [("distribution".to_string(), Input::Text("ggx".into()))];
-        let truth = Model::build(
-            "cook_torrance",
-            &[
-                ("roughness".into(), num(0.22)),
-                ("kd".into(), Input::Numbers(vec![0.5, 0.3, 0.1])),
-                ("ks".into(), num(0.7)),
-            ],
-        )
-        .unwrap();
-        let data = samples(&truth, 1500, 0.0, 1);
-        let start =
-            [("roughness".to_string(), num(0.6)), ("kd".to_string(), num(0.2)), ("ks".to_string(), num(0.3))];
-        let res = fit("cook_torrance", &fixed, &start, &data, &FitOptions::default()).unwrap();
-        eprintln!(
-            "noise-free fit: {:?}, rms {:.2e}, {} iterations",
-            res.values, res.rms_log_error, res.iterations
-        );
-        assert!(res.converged);
-        let v = &res.values;
-        assert!((v[0].1[0] - 0.22).abs() < 1e-3, "{v:?}");
-        for (got, want) in v[1].1.iter().zip([0.5, 0.3, 0.1]) {
-            assert!((got - want).abs() < 1e-3, "{v:?}");
-        }
-        assert!(v[2].1.iter().all(|x| (x - 0.7).abs() < 1e-3), "{v:?}");
-        assert!(res.rms_log_error < 1e-3);
-    }
-
-    #[test]
-    fn blinn_phong_exponent_is_recovered_and_noise_gives_a_bounded_error() {
-        let truth = Model::build("blinn_phong", &[("shininess".into(), num(120.0)), ("kd".into(), num(0.3))])
-            .unwrap();
-        let start = [("shininess".to_string(), num(10.0)), ("kd".to_string(), num(0.8))];
-        let clean =
-            fit("blinn_phong", &[], &start, &samples(&truth, 1000, 0.0, 2), &FitOptions::default()).unwrap();
-        eprintln!("blinn-phong clean: {:?}", clean.values);
-        assert!((clean.values[0].1[0] - 120.0).abs() < 0.1, "{:?}", clean.values);
-        // 5 % multiplicative (log-normal) noise on every value: the log residual of the truth is then
-        // ~0.05 RMS, and the fitted values stay within 1 % (measured: shininess 119.99, kd 0.2997..0.3001).
-        let noisy =
-            fit("blinn_phong", &[], &start, &samples(&truth, 1000, 0.05, 3), &FitOptions::default()).unwrap();
-        eprintln!("blinn-phong 5% noise: {:?}, rms {:.3}", noisy.values, noisy.rms_log_error);
-        assert!((noisy.values[0].1[0] / 120.0 - 1.0).abs() < 0.01, "{:?}", noisy.values);
-        assert!(noisy.values[1].1.iter().all(|x| (x / 0.3 - 1.0).abs() < 0.01), "{:?}", noisy.values);
-        assert!((noisy.rms_log_error - 0.05).abs() < 0.01, "{}", noisy.rms_log_error);
-    }
-
-    #[test]
-    fn fitted_values_stay_inside_the_registry_ranges() {
-        // Data brighter than any Lambertian with albedo <= 1: the albedo is pinned at the bound.
-        let data: Vec<Sample> = (0..50)
-            .map(|i| {
-                let l = Vec3::new(0.1 * (i as f32 * 0.3).sin(), 0.2, 1.0);
-                Sample { l, v: Vec3::new(-0.3, 0.1, 1.0), n: Vec3::Z, f: Vec3::splat(0.6) }
-            })
-            .collect();
-        let res = fit("lambert", &[], &[("kd".into(), num(0.5))], &data, &FitOptions::default()).unwrap();
-        assert!(res.values[0].1.iter().all(|&a| a <= 1.0 && a > 1.0 - 1e-6), "{:?}", res.values);
-        assert!(res.converged);
-    }
-
-    #[test]
-    fn bad_requests_are_refused_with_the_reason() {
-        let s = [Sample { l: Vec3::Z, v: Vec3::Z, n: Vec3::Z, f: Vec3::ONE }];
-        let o = FitOptions::default();
-        let e = fit("nope", &[], &[("x".into(), num(1.0))], &s, &o).unwrap_err().to_string();
-        assert!(e.contains("nope") && e.contains("lambert"), "{e}");
-        let e = fit("lambert", &[], &[("albedoo".into(), num(0.5))], &s, &o).unwrap_err().to_string();
-        assert!(e.contains("albedoo"), "{e}");
-        let e = fit("lambert", &[], &[], &s, &o).unwrap_err().to_string();
-        assert!(e.contains("start"), "{e}");
-        let e = fit("cook_torrance", &[], &[("fresnel".into(), Input::Text("none".into()))], &s, &o)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("fresnel") && e.contains("scalar and color"), "{e}");
-        let e = fit("lambert", &[("kd".into(), num(0.5))], &[("kd".into(), num(0.5))], &s, &o)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("both fixed and free"), "{e}");
-        let e = fit("lambert", &[], &[("kd".into(), num(2.0))], &s, &o).unwrap_err().to_string();
-        assert!(e.contains("kd") && e.contains("[0, 1]"), "{e}");
-        let below = [Sample { l: -Vec3::Z, v: Vec3::Z, n: Vec3::Z, f: Vec3::ONE }];
-        let e = fit("lambert", &[], &[("kd".into(), num(0.5))], &below, &o).unwrap_err().to_string();
-        assert!(e.contains("above the surface"), "{e}");
-        let nan = [Sample { l: Vec3::Z, v: Vec3::Z, n: Vec3::Z, f: Vec3::new(0.0, f32::NAN, 0.0) }];
-        let e = fit("lambert", &[], &[("kd".into(), num(0.5))], &nan, &o).unwrap_err().to_string();
-        assert!(e.contains("values") && e.contains("row 0"), "{e}");
-    }
-}
+mod tests;

@@ -36,7 +36,7 @@ mod _brdfpy {
     #[pymodule_export]
     use super::measured::{
         Tabulated, fit_model, sh_basis, sh_clamped_cosine_zonal, sh_max_order, sh_project, sh_quadrature,
-        sh_reconstruct,
+        sh_reconstruct, table_samples,
     };
     #[pymodule_export]
     use super::microfacet::{distribution, masking, microfacet_names, smith_lambda};

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use brdf_core::batch::{Batch, Directions, Quantity, evaluate_bxdf};
-use brdf_core::fit::{FitOptions, Sample};
+use brdf_core::fit::{self, FitOptions, Jacobian, Loss, Sample, Strategy, TableSampling};
 use brdf_core::measured::{Measured, Tabulated as CoreTabulated};
 use brdf_core::sh;
 use glam::{DVec3, Vec3};
@@ -122,11 +122,24 @@ impl Tabulated {
     }
 }
 
-/// Fit the parameters in `start` of model `name` to samples `(l, v, n, values)` (float32 `(k, 3)`,
-/// k = 1 or N; `values` `(N, 3)`). Returns a dict: values (name → float or 3-tuple), rms_log_error,
-/// epsilon, iterations, converged, samples_used.
+/// A fit's per-parameter numbers as a dict: name → float, or a 3-tuple for a colour.
+fn values_dict<'py>(py: Python<'py>, vals: &[(String, Vec<f64>)]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, x) in vals {
+        if x.len() == 1 {
+            d.set_item(k, x[0])?;
+        } else {
+            d.set_item(k, (x[0], x[1], x[2]))?;
+        }
+    }
+    Ok(d)
+}
+
+/// Fit registry model `name` to samples `(l, v, n, values)` (float32 `(..., 3)` arrays that broadcast)
+/// with `brdf_core::fit::fit_model`: every continuous parameter free unless in `fixed`. Returns a dict
+/// (see `brdfpy.measured.FitReport`). The GIL is released during the fit.
 #[pyfunction]
-#[pyo3(signature = (name, l, v, n, values, start, fixed=None, max_iterations=None))]
+#[pyo3(signature = (name, l, v, n, values, weights=None, fixed=None, start=None, loss="log", multistart=None, choices=None, max_iterations=None, jacobian="auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_model<'py>(
     py: Python<'py>,
@@ -135,41 +148,122 @@ pub fn fit_model<'py>(
     v: PyReadonlyArrayDyn<'py, f32>,
     n: PyReadonlyArrayDyn<'py, f32>,
     values: PyReadonlyArrayDyn<'py, f32>,
-    start: &Bound<'py, PyDict>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
     fixed: Option<&Bound<'py, PyDict>>,
+    start: Option<&Bound<'py, PyDict>>,
+    loss: &str,
+    multistart: Option<&Bound<'py, PyAny>>,
+    choices: Option<&Bound<'py, PyDict>>,
     max_iterations: Option<&Bound<'py, PyAny>>,
+    jacobian: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    // Any int from Python, checked here (pyo3's usize conversion would raise OverflowError naming nothing);
-    // None: 200.
+    let jacobian = match jacobian {
+        "auto" => Jacobian::Auto,
+        "finite_difference" => Jacobian::FiniteDifference,
+        _ => {
+            return Err(invalid(format!(
+                "jacobian: expected \"auto\" or \"finite_difference\", got {jacobian:?}"
+            )));
+        }
+    };
+    // Any int from Python, checked here (pyo3's usize conversion would raise OverflowError naming nothing).
     let max_iterations = match max_iterations {
-        Some(k) => crate::errors::integer("max_iterations", k, 1, u32::MAX as i64)? as usize,
-        None => 200,
+        Some(k) => crate::errors::integer("max_iterations", k, 1, 100_000)? as usize,
+        None => FitOptions::default().max_iterations,
+    };
+    let multistart = match multistart {
+        Some(k) => crate::errors::integer("multistart", k, 0, 1024)? as usize,
+        None => FitOptions::default().multistart,
     };
     let b = Batch::new((vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3("values", &values)?))
         .map_err(to_py)?;
     let rows = b.map(|s: (Vec3, Vec3, Vec3, Vec3)| s).to_vec().map_err(to_py)?;
     let samples: Vec<Sample> = rows.into_iter().map(|(l, v, n, f)| Sample { l, v, n, f }).collect();
-    let (start, fixed) = (to_inputs(Some(start))?, to_inputs(fixed)?);
-    let options = FitOptions { max_iterations, ..FitOptions::default() };
-    let name = name.to_string();
-    let res = run(py, usize::MAX, || brdf_core::fit::fit(&name, &fixed, &start, &samples, &options))?
-        .map_err(to_py)?;
-    let d = PyDict::new(py);
-    let vals = PyDict::new(py);
-    for (k, x) in &res.values {
-        if x.len() == 1 {
-            vals.set_item(k, x[0])?;
-        } else {
-            vals.set_item(k, (x[0], x[1], x[2]))?;
+    let weights = match &weights {
+        Some(w) => Some(
+            w.as_slice()
+                .map_err(|_| PyTypeError::new_err("weights: expected a C-contiguous float64 array"))?
+                .to_vec(),
+        ),
+        None => None,
+    };
+    let mut search = Vec::new();
+    if let Some(c) = choices {
+        for (k, vals) in c.iter() {
+            let key: String =
+                k.extract().map_err(|_| PyTypeError::new_err("choices: parameter names must be strings"))?;
+            let list: Vec<String> = vals.extract().map_err(|_| {
+                PyTypeError::new_err(format!("choices: {key:?} must map to a list of names (str)"))
+            })?;
+            search.push((key, list));
         }
     }
-    d.set_item("values", vals)?;
+    let options = FitOptions {
+        fixed: to_inputs(fixed)?,
+        start: to_inputs(start)?,
+        loss: Loss::from_name(loss).map_err(to_py)?,
+        weights,
+        multistart,
+        choices: search,
+        max_iterations,
+        jacobian,
+        ..FitOptions::default()
+    };
+    let name = name.to_string();
+    let res = run(py, usize::MAX, || fit::fit_model(&name, &samples, &options))?.map_err(to_py)?;
+    let d = PyDict::new(py);
+    d.set_item("values", values_dict(py, &res.values)?)?;
+    d.set_item("stderr", values_dict(py, &res.stderr)?)?;
+    d.set_item("stderr_robust", values_dict(py, &res.stderr_robust)?)?;
+    d.set_item("at_bound", res.at_bound.clone())?;
+    d.set_item("inactive", res.inactive.clone())?;
+    let ch = PyDict::new(py);
+    for (k, v) in &res.choices {
+        ch.set_item(k, v)?;
+    }
+    d.set_item("choices", ch)?;
+    d.set_item("loss", res.loss.name())?;
+    d.set_item("cost", res.cost)?;
+    let per: Vec<(f64, f64, f64)> = res.channels.iter().map(|c| (c.rms, c.max, c.relative_l2)).collect();
+    d.set_item("channels", per)?;
     d.set_item("rms_log_error", res.rms_log_error)?;
     d.set_item("epsilon", res.epsilon)?;
     d.set_item("iterations", res.iterations)?;
     d.set_item("converged", res.converged)?;
+    d.set_item("message", res.message.clone())?;
     d.set_item("samples_used", res.samples_used)?;
+    d.set_item("starts", res.starts)?;
+    let tried: Vec<(Vec<(String, String)>, f64)> = res.tried.clone();
+    d.set_item("tried", tried)?;
+    d.set_item("jacobian", res.jacobian)?;
     Ok(d)
+}
+
+/// Samples of a table for a fit (`brdf_core::fit::table_samples`): `(l, v, values)`, float32 `(count, 3)`
+/// each, normal +z.
+#[pyfunction]
+#[pyo3(signature = (table, count, seed, max_theta, strategy))]
+pub fn table_samples<'py>(
+    py: Python<'py>,
+    table: PyRef<'py, Tabulated>,
+    count: &Bound<'py, PyAny>,
+    seed: &Bound<'py, PyAny>,
+    max_theta: f64,
+    strategy: &str,
+) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
+    let how = TableSampling {
+        count: crate::errors::integer("samples", count, 16, 10_000_000)? as usize,
+        seed: crate::errors::integer("seed", seed, 0, i64::MAX)? as u64,
+        max_theta_deg: max_theta as f32,
+        strategy: Strategy::from_name(strategy).map_err(to_py)?,
+    };
+    let t = table.inner.0.clone();
+    let s = run(py, how.count, || fit::table_samples(&t, &how))?.map_err(to_py)?;
+    let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let flat: Vec<f32> = s.iter().flat_map(|x| f(x).to_array()).collect();
+        PyArray1::from_vec(py, flat).reshape([s.len(), 3])
+    };
+    Ok((col(|x| x.l)?, col(|x| x.v)?, col(|x| x.f)?))
 }
 
 /// A float64 C-contiguous `(N, 3)` array viewed as `&[DVec3]` (N may be 0).
