@@ -350,7 +350,7 @@ def render_scene(
     env_mode: str = "fast",
     env_samples: int = 64,
     env_seed: int = 0,
-    area_lights: Sequence[RasterAreaLight] = (),
+    area_lights: Sequence[RasterAreaLight] | None = None,
     area_samples: int = 16,
     area_seed: int = 0,
 ) -> RasterFrame: ...

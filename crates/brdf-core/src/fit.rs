@@ -42,7 +42,7 @@
 //! Samples with `l` or `v` at or below the horizon are dropped (every physical model is 0 there).
 //!
 //! ## The solver and what it reports
-//! Levenberg–Marquardt ([`lm`]) with an analytic Jacobian where one is written ([`analytic`]: Lambert,
+//! Levenberg–Marquardt (K. Levenberg 1944; D. W. Marquardt 1963) with an analytic Jacobian where one is written (Lambert,
 //! Cook–Torrance with GGX, Smith and Schlick) and central differences otherwise (the columns computed in
 //! parallel; every model evaluation is the batch evaluator's, in parallel over samples). Standard
 //! errors are `√diag((JᵀJ)⁻¹ σ²)` with `σ² = 2·cost/(m − k)` at the solution (m residuals, k free values;
@@ -99,7 +99,7 @@ pub enum Loss {
 /// How [`fit_model`] computes the Jacobian.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Jacobian {
-    /// Analytic where [`analytic`] has the model, central differences otherwise.
+    /// Analytic where one is written for the model (Lambert; Cook–Torrance GGX, Smith, Schlick), central differences otherwise.
     Auto,
     /// Central differences always.
     FiniteDifference,

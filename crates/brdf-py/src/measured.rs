@@ -239,6 +239,9 @@ pub fn fit_model<'py>(
     Ok(d)
 }
 
+/// The `(l, v, values)` columns of drawn samples, each `(count, 3)`.
+type SampleColumns<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
+
 /// Samples of a table for a fit (`brdf_core::fit::table_samples`): `(l, v, values)`, float32 `(count, 3)`
 /// each, normal +z.
 #[pyfunction]
@@ -250,7 +253,7 @@ pub fn table_samples<'py>(
     seed: &Bound<'py, PyAny>,
     max_theta: f64,
     strategy: &str,
-) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>)> {
+) -> PyResult<SampleColumns<'py>> {
     let how = TableSampling {
         count: crate::errors::integer("samples", count, 16, 10_000_000)? as usize,
         seed: crate::errors::integer("seed", seed, 0, i64::MAX)? as u64,

@@ -15,7 +15,7 @@
 //!   `L_j · (f_r cos θ_l / p_b) · w(p_b, p_j)` where the ray meets the light ([`crate::area_light::AreaLight::hit`]) and
 //!   nothing blocks it before.
 //!
-//! `w(a, b) = a²/(a² + b²)` ([`crate::environment::monte_carlo::power`]). Visibility is traced in a
+//! `w(a, b) = a²/(a² + b²)`, the power heuristic with β = 2 (E. Veach, PhD thesis, Stanford 1997, §9.2). Visibility is traced in a
 //! BVH of the scene whatever `RenderOptions::shadows` says (soft shadows are what an area light is
 //! for), from the point offset along the face's geometric normal ([`crate::shadows::shadow_ray`]), to
 //! `2ε` short of the light. Area lights are not geometry: they cast no shadow themselves and the

@@ -143,22 +143,36 @@ pub fn linear_solve(mut a: Vec<f64>, mut b: Vec<f64>) -> Option<Vec<f64>> {
 /// set); otherwise the step is shortened so that no component goes more than 90 % of its way to its
 /// bound (fraction to the boundary). Clamping the full step instead lets one overshooting step throw e.g.
 /// a roughness onto 0, where the lobe vanishes from every sample and the gradient with it. A component
-/// left within `1e-9` of the range from its bound is put on it.
+/// pushed outward with less than `1e-6` of its range left goes onto its bound instead of limiting the
+/// step: otherwise a value that has crept to within a hair of its bound shrinks every later step to that
+/// hair and the solver stops on a small reduction far from the minimum. A component left within `1e-9`
+/// of the range from its bound is put on it.
 fn bounded_step(p: &[f64], delta: &[f64], bounds: &[(f64, f64)]) -> Vec<f64> {
-    let mut d = delta.to_vec();
+    // `Some(bound)`: the component goes onto that bound whatever α is.
+    let onto: Vec<Option<f64>> = p
+        .iter()
+        .zip(delta)
+        .zip(bounds)
+        .map(|((x, dj), &(lo, hi))| {
+            let (room, bound) = if *dj < 0.0 { (x - lo, lo) } else { (hi - x, hi) };
+            (*dj != 0.0 && room <= 1e-6 * (hi - lo)).then_some(bound)
+        })
+        .collect();
     let mut alpha: f64 = 1.0;
-    for ((x, dj), (lo, hi)) in p.iter().zip(d.iter_mut()).zip(bounds) {
+    for (((x, dj), (lo, hi)), onto) in p.iter().zip(delta).zip(bounds).zip(&onto) {
         let room = if *dj < 0.0 { x - lo } else { hi - x };
-        if room <= 0.0 {
-            *dj = 0.0;
-        } else if dj.abs() > room {
+        if onto.is_none() && dj.abs() > room {
             alpha = alpha.min(0.9 * room / dj.abs());
         }
     }
     p.iter()
-        .zip(&d)
+        .zip(delta)
         .zip(bounds)
-        .map(|((x, dj), &(lo, hi))| {
+        .zip(&onto)
+        .map(|(((x, dj), &(lo, hi)), onto)| {
+            if let Some(b) = onto {
+                return *b;
+            }
             let y = (x + alpha * dj).clamp(lo, hi);
             let snap = 1e-9 * (hi - lo);
             if y - lo < snap {

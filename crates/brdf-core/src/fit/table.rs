@@ -51,7 +51,7 @@ pub struct TableSampling {
     pub count: usize,
     /// Seed of the generator.
     pub seed: u64,
-    /// Grazing cut-off [degrees] for both directions, in (0, 90].
+    /// Grazing cut-off \[degrees\] for both directions, in (0, 90].
     pub max_theta_deg: f32,
     /// How directions are drawn.
     pub strategy: Strategy,

@@ -327,9 +327,16 @@ fn analytic_and_finite_difference_fits_agree() {
     let fd = FitOptions { jacobian: Jacobian::FiniteDifference, ..Default::default() };
     let b = fit_model("cook_torrance", &data, &fd).unwrap();
     assert_eq!((a.jacobian, b.jacobian), ("analytic", "finite_difference"));
-    for ((n, x), (_, y)) in a.values.iter().zip(&b.values) {
-        for (x, y) in x.iter().zip(y) {
-            assert!((x - y).abs() < 1e-4, "{n}: {x} {y}");
+    // Both reach the same minimum: their gap is tiny against the statistical uncertainty of the fit
+    // (values on a bound, whose stderr is NaN, are on the same bound).
+    for (((n, x), (_, y)), (_, s)) in a.values.iter().zip(&b.values).zip(&a.stderr) {
+        for ((x, y), s) in x.iter().zip(y).zip(s) {
+            if s.is_nan() {
+                assert_eq!(x, y, "{n} on a bound");
+            } else {
+                assert!((x - y).abs() < 0.05 * s, "{n}: {x} {y}, stderr {s}");
+            }
         }
     }
+    assert!((a.cost - b.cost).abs() <= 1e-5 * a.cost, "cost {} vs {}", a.cost, b.cost);
 }

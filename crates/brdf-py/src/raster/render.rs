@@ -241,7 +241,7 @@ fn check_size(name: &'static str, v: i64) -> PyResult<u32> {
 #[pyo3(signature = (instances, lights, ambient_light, background, camera, width, height, shading="phong",
     cull_back_faces=true, samples=1, tonemap="clamp", exposure=0.0, white=None, ao=None, shadows=false,
     progress=None, vertex_obscurance=None, outputs=None, environment=None, env_mode="fast", env_samples=64,
-    env_seed=0, area_lights=Vec::new(), area_samples=16, area_seed=0))]
+    env_seed=0, area_lights=None, area_samples=16, area_seed=0))]
 pub fn render_scene(
     py: Python<'_>,
     instances: Vec<InstanceArgs<'_>>,
@@ -266,7 +266,7 @@ pub fn render_scene(
     env_mode: &str,
     env_samples: i64,
     env_seed: u64,
-    area_lights: Vec<PyRef<'_, RasterAreaLight>>,
+    area_lights: Option<Vec<PyRef<'_, RasterAreaLight>>>,
     area_samples: i64,
     area_seed: u64,
 ) -> PyResult<RasterFrame> {
@@ -327,7 +327,7 @@ pub fn render_scene(
     for l in &lights {
         scene.add_light(l.inner);
     }
-    for l in &area_lights {
+    for l in area_lights.iter().flatten() {
         scene.add_area_light(l.inner);
     }
     scene.validate().map_err(raster_err)?;
