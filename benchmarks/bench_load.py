@@ -39,9 +39,8 @@ def _time(fn: Callable[[], Any]) -> float:
 
 
 def bench(subdivisions: int, repeat: int) -> dict[str, Any]:
-    import trimesh
-
     import brdfpy
+    import trimesh
     from brdfpy import _brdfpy
 
     load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
@@ -73,7 +72,7 @@ def bench(subdivisions: int, repeat: int) -> dict[str, Any]:
             warnings.simplefilter("ignore")
             for fmt, (path, loaders) in cases.items():
                 times: dict[str, list[float]] = {k: [] for k in loaders}
-                for k, fn in loaders.items():  # one warm-up each (file cache, imports)
+                for fn in loaders.values():  # one warm-up each (file cache, imports)
                     fn()
                 for _ in range(repeat):
                     for k, fn in loaders.items():

@@ -7,14 +7,12 @@ from __future__ import annotations
 import base64
 import math
 import struct
-import warnings
 from pathlib import Path
 from typing import Any
 
+import brdfpy
 import numpy as np
 import pytest
-
-import brdfpy
 from brdfpy.assets import TexturesNotAppliedWarning, load_scene
 
 pygltflib = pytest.importorskip("pygltflib")
@@ -22,12 +20,8 @@ pygltflib = pytest.importorskip("pygltflib")
 # -- an independent glTF writer -----------------------------------------------------------------------------
 
 # A closed, asymmetric wedge (a mirrored copy differs from it), counter-clockwise outward.
-WEDGE_V = np.array(
-    [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.6, 0.7, 0.8]], dtype=np.float32
-)
-WEDGE_F = np.array(
-    [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 4], [1, 4, 3], [2, 3, 4]], dtype=np.uint32
-)
+WEDGE_V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0.6, 0.7, 0.8]], dtype=np.float32)
+WEDGE_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 4], [1, 4, 3], [2, 3, 4]], dtype=np.uint32)
 
 
 def _signed_volume(v: np.ndarray, f: np.ndarray) -> float:
@@ -184,7 +178,9 @@ def test_a_negative_scale_node_renders_as_the_mirrored_geometry(tmp_path: Path) 
 # -- Appendix B ---------------------------------------------------------------------------------------------
 
 
-def appendix_b(l: np.ndarray, v: np.ndarray, n: np.ndarray, base: np.ndarray, metal: float, rough: float) -> np.ndarray:
+def appendix_b(
+    l: np.ndarray, v: np.ndarray, n: np.ndarray, base: np.ndarray, metal: float, rough: float
+) -> np.ndarray:
     """glTF 2.0 Appendix B (B.3): mix(dielectric_brdf, metal_brdf, metallic), float64, per channel."""
     h = l + v
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
@@ -192,9 +188,15 @@ def appendix_b(l: np.ndarray, v: np.ndarray, n: np.ndarray, base: np.ndarray, me
     vh = np.abs(np.sum(v * h, axis=-1))
     a = rough**2
     d = a * a * (nh > 0) / (np.pi * (nh * nh * (a * a - 1) + 1) ** 2)
-    vis = (nl > 0) * (nv > 0) / (
-        np.abs(nl) * np.sqrt(nv * nv * (1 - a * a) + a * a) + np.abs(nv) * np.sqrt(nl * nl * (1 - a * a) + a * a)
-    ) / 2
+    vis = (
+        (nl > 0)
+        * (nv > 0)
+        / (
+            np.abs(nl) * np.sqrt(nv * nv * (1 - a * a) + a * a)
+            + np.abs(nv) * np.sqrt(nl * nl * (1 - a * a) + a * a)
+        )
+        / 2
+    )
     spec = (v_d := vis * d)[..., None]
     weight = (1 - vh) ** 5
     f_d = 0.04 + (1 - 0.04) * weight  # dielectric: fresnel_mix(ior 1.5)
@@ -246,7 +248,9 @@ def test_factors_emission_and_default_material(tmp_path: Path) -> None:
     mat = w.material(
         emissiveFactor=[0.5, 0.25, 1.0],
         extensions={"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}},
-        pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(baseColorFactor=[0.2, 0.4, 0.6, 1], metallicFactor=0.5),
+        pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(
+            baseColorFactor=[0.2, 0.4, 0.6, 1], metallicFactor=0.5
+        ),
     )
     a = w.node(mesh=w.mesh(WEDGE_V, WEDGE_F, material=mat))
     b = w.node(mesh=w.mesh(WEDGE_V, WEDGE_F), translation=[2, 0, 0])  # no material: the spec's default
@@ -277,7 +281,11 @@ def test_double_sided_draws_the_back_and_mask_drops_transparent_primitives(tmp_p
     assert covered[0][0] == 0  # single-sided: culled from behind
     assert covered[1][0] > 1000 and covered[1][1] > 0.05  # double-sided: drawn and lit
     w = Writer()
-    clear = w.material(alphaMode="MASK", alphaCutoff=0.5, pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(baseColorFactor=[1, 1, 1, 0.3]))
+    clear = w.material(
+        alphaMode="MASK",
+        alphaCutoff=0.5,
+        pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(baseColorFactor=[1, 1, 1, 0.3]),
+    )
     blend = w.material(alphaMode="BLEND")
     a = w.node(mesh=w.mesh(WEDGE_V, WEDGE_F, material=clear))
     b = w.node(mesh=w.mesh(WEDGE_V, WEDGE_F, material=blend))
@@ -303,11 +311,21 @@ def test_khr_lights_punctual_and_cameras(tmp_path: Path) -> None:
     point = w.node(translation=[0, 3, 0], extensions={"KHR_lights_punctual": {"light": 0}})
     # A spot above, pointing down: the node's -z turned to -y by +90 degrees about x.
     t = math.radians(90) / 2
-    spot = w.node(translation=[1, 4, 0], rotation=[math.sin(t), 0, 0, math.cos(t)], extensions={"KHR_lights_punctual": {"light": 1}})
+    spot = w.node(
+        translation=[1, 4, 0],
+        rotation=[math.sin(t), 0, 0, math.cos(t)],
+        extensions={"KHR_lights_punctual": {"light": 1}},
+    )
     sun = w.node(rotation=_quat_y(90), extensions={"KHR_lights_punctual": {"light": 2}})  # -z -> -x
     w.g.cameras = [
-        pygltflib.Camera(type="perspective", perspective=pygltflib.Perspective(yfov=0.7, znear=0.1, zfar=50.0, aspectRatio=1.5)),
-        pygltflib.Camera(type="orthographic", orthographic=pygltflib.Orthographic(xmag=2.0, ymag=1.0, znear=0.01, zfar=20.0)),
+        pygltflib.Camera(
+            type="perspective",
+            perspective=pygltflib.Perspective(yfov=0.7, znear=0.1, zfar=50.0, aspectRatio=1.5),
+        ),
+        pygltflib.Camera(
+            type="orthographic",
+            orthographic=pygltflib.Orthographic(xmag=2.0, ymag=1.0, znear=0.01, zfar=20.0),
+        ),
     ]
     cam0 = w.node(camera=0, translation=[0, 1, 5])
     cam1 = w.node(camera=1, translation=[5, 0, 0], rotation=_quat_y(90))  # looks along -x
@@ -316,7 +334,9 @@ def test_khr_lights_punctual_and_cameras(tmp_path: Path) -> None:
     assert isinstance(lp, brdfpy.PointLight) and lp.position == pytest.approx((0, 3, 0))
     assert lp.emitted == pytest.approx((20.0, 10.0, 5.0))  # candela, colour x intensity
     assert isinstance(ls, brdfpy.SpotLight)
-    assert ls.position == pytest.approx((1, 4, 0), abs=1e-6) and ls.direction == pytest.approx((0, -1, 0), abs=1e-6)
+    assert ls.position == pytest.approx((1, 4, 0), abs=1e-6) and ls.direction == pytest.approx(
+        (0, -1, 0), abs=1e-6
+    )
     f = ls._fields()
     assert f["inner_angle"] == pytest.approx(0.2, rel=1e-5)  # half-angles [rad], as in the file
     assert f["outer_angle"] == pytest.approx(0.6, rel=1e-5)
@@ -327,7 +347,9 @@ def test_khr_lights_punctual_and_cameras(tmp_path: Path) -> None:
     assert asset.lights[0]["range"] == 9.0 and any("range 9" in n for n in asset.notes)
     c0, c1 = cams
     assert c0.kind == "perspective" and c0.fovy == pytest.approx(math.degrees(0.7), rel=1e-5)
-    assert c0.eye == pytest.approx((0, 1, 5)) and c0.near == pytest.approx(0.1) and c0.far == pytest.approx(50)
+    assert (
+        c0.eye == pytest.approx((0, 1, 5)) and c0.near == pytest.approx(0.1) and c0.far == pytest.approx(50)
+    )
     d = np.subtract(c0.target, c0.eye)
     assert d / np.linalg.norm(d) == pytest.approx((0, 0, -1), abs=1e-6)
     assert asset.cameras[0].aspect == pytest.approx(1.5)
@@ -345,7 +367,9 @@ def test_up_turns_meshes_lights_and_cameras_together(tmp_path: Path) -> None:
     w.lights([{"type": "point", "intensity": 5.0}])
     mesh = w.node(mesh=w.mesh(WEDGE_V, WEDGE_F))
     light = w.node(translation=[0, 0, 3], extensions={"KHR_lights_punctual": {"light": 0}})
-    w.g.cameras = [pygltflib.Camera(type="perspective", perspective=pygltflib.Perspective(yfov=0.8, znear=0.1))]
+    w.g.cameras = [
+        pygltflib.Camera(type="perspective", perspective=pygltflib.Perspective(yfov=0.8, znear=0.1))
+    ]
     cam = w.node(camera=0, translation=[0, 0.3, 4])
     path = w.save(tmp_path / "up.glb", [mesh, light, cam])
     s0, c0 = _quiet_load(path)
@@ -406,7 +430,11 @@ def test_texture_references_are_kept_and_reported(tmp_path: Path) -> None:
     png = _png_1x1()
     view = w._view(png)
     w.g.images = [pygltflib.Image(bufferView=view, mimeType="image/png", name="orange")]
-    w.g.samplers = [pygltflib.Sampler(wrapS=pygltflib.CLAMP_TO_EDGE, wrapT=pygltflib.MIRRORED_REPEAT, magFilter=pygltflib.NEAREST)]
+    w.g.samplers = [
+        pygltflib.Sampler(
+            wrapS=pygltflib.CLAMP_TO_EDGE, wrapT=pygltflib.MIRRORED_REPEAT, magFilter=pygltflib.NEAREST
+        )
+    ]
     w.g.textures = [pygltflib.Texture(source=0, sampler=0)]
     mat = w.material(
         pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(baseColorTexture=pygltflib.TextureInfo(index=0)),
@@ -434,11 +462,13 @@ def test_obj_with_mtl_maps_its_materials(tmp_path: Path) -> None:
         "newmtl pbr\nKd 0.9 0.9 0.9\nPr 0.4\nPm 1\n"
     )
     (tmp_path / "a.obj").write_text(
-        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0.5 0.5\n"
-        "usemtl shiny\nf 1/1 2/2 3/3\nusemtl matte\nf 2/2 4/4 3/3\nusemtl pbr\nf 1/1 2/2 5/5\nusemtl nowhere\nf 1 3 5\n"
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\n"
+        "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0.5 0.5\n"
+        "usemtl shiny\nf 1/1 2/2 3/3\nusemtl matte\nf 2/2 4/4 3/3\n"
+        "usemtl pbr\nf 1/1 2/2 5/5\nusemtl nowhere\nf 1 3 5\n"
     )
     with pytest.warns(TexturesNotAppliedWarning, match="3 textures not applied"):
-        scene, cams = load_scene(tmp_path / "a.obj")
+        scene, _ = load_scene(tmp_path / "a.obj")
     asset = scene.asset  # type: ignore[attr-defined]
     names = [p.name for p in asset.parts]
     assert names == ["shiny", "matte", "pbr", "default"]
@@ -576,13 +606,23 @@ def test_bad_arguments(tmp_path: Path) -> None:
 # -- the command line ---------------------------------------------------------------------------------------
 
 
-def test_cli_renders_a_gltf_scene_through_its_camera(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_renders_a_gltf_scene_through_its_camera(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     from brdfpy.cli import main
 
     w = Writer()
-    mat = w.material(pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(baseColorFactor=[0.9, 0.3, 0.1, 1], metallicFactor=0.0, roughnessFactor=0.4))
+    mat = w.material(
+        pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(
+            baseColorFactor=[0.9, 0.3, 0.1, 1], metallicFactor=0.0, roughnessFactor=0.4
+        )
+    )
     root = w.node(mesh=w.mesh(WEDGE_V, WEDGE_F, material=mat))
-    w.g.cameras = [pygltflib.Camera(type="perspective", perspective=pygltflib.Perspective(yfov=0.6, znear=0.1, aspectRatio=2.0))]
+    w.g.cameras = [
+        pygltflib.Camera(
+            type="perspective", perspective=pygltflib.Perspective(yfov=0.6, znear=0.1, aspectRatio=2.0)
+        )
+    ]
     cam = w.node(camera=0, translation=[0.3, 0.4, 4])
     p = w.save(tmp_path / "cli.glb", [root, cam])
     out = tmp_path / "cli.png"
@@ -596,7 +636,25 @@ def test_cli_renders_a_gltf_scene_through_its_camera(tmp_path: Path, capsys: pyt
     text = capsys.readouterr().out
     assert "no lights in the file" in text and "camera 0 of 1" in text
     out2 = tmp_path / "turned.png"
-    assert main(["render", "--scene", str(p), "-o", str(out2), "--size", "64x48", "--up", "z", "--rotate", "30", "-q"]) == 0
+    assert (
+        main(
+            [
+                "render",
+                "--scene",
+                str(p),
+                "-o",
+                str(out2),
+                "--size",
+                "64x48",
+                "--up",
+                "z",
+                "--rotate",
+                "30",
+                "-q",
+            ]
+        )
+        == 0
+    )
     assert out2.exists()
     assert main(["render", "--scene", str(p), "--camera", "3", "-o", str(out2)]) == 2
     assert "--camera: the file has 1 camera(s)" in capsys.readouterr().err

@@ -293,7 +293,17 @@ def metallic_roughness(
 def _default_material() -> AssetMaterial:
     mdl, _ = metallic_roughness(DEFAULT_MATERIAL["base_color"], 0.0, DEFAULT_MATERIAL["roughness"])
     return AssetMaterial(
-        "default", mdl, (0.0, 0.0, 0.0), None, False, "OPAQUE", 0.5, 1.0, {}, "default", dict(DEFAULT_MATERIAL)
+        "default",
+        mdl,
+        (0.0, 0.0, 0.0),
+        None,
+        False,
+        "OPAQUE",
+        0.5,
+        1.0,
+        {},
+        "default",
+        dict(DEFAULT_MATERIAL),
     )
 
 
@@ -352,7 +362,7 @@ def _mtl_material(d: dict[str, Any], notes: list[str]) -> AssetMaterial:
         mdl, _ = metallic_roughness(kd, d["Pm"] or 0.0, rough)
     elif illum == 0:
         mdl = model("lambert", kd=0.0)
-        emission = tuple(float(e + k) for e, k in zip(emission, kd))  # type: ignore[assignment]
+        emission = (emission[0] + float(kd[0]), emission[1] + float(kd[1]), emission[2] + float(kd[2]))
     else:
         spec = (0.0, 0.0, 0.0) if illum == 1 else tuple(float(x) for x in ks)
         mdl = model(
@@ -386,9 +396,7 @@ def _mtl_material(d: dict[str, Any], notes: list[str]) -> AssetMaterial:
         )
     factors = {k: d[k] for k in ("Ka", "Kd", "Ks", "Ke", "Ns", "d", "illum", "Pr", "Pm")}
     ka = None if d["Ka"] is None else _rgb(d["Ka"])
-    return AssetMaterial(
-        name, mdl, emission, ka, False, "OPAQUE", 0.5, opacity, textures, "mtl", factors
-    )
+    return AssetMaterial(name, mdl, emission, ka, False, "OPAQUE", 0.5, opacity, textures, "mtl", factors)
 
 
 def _mime(name: str) -> str | None:
@@ -405,7 +413,9 @@ def _bounds_sphere(scene: Scene) -> tuple[NDArray[np.float64], float]:
     return center, max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
 
 
-def _gltf_camera(c: dict[str, Any], stand: NDArray[np.float64], scene: Scene, notes: list[str]) -> AssetCamera:
+def _gltf_camera(
+    c: dict[str, Any], stand: NDArray[np.float64], scene: Scene, notes: list[str]
+) -> AssetCamera:
     m = stand @ np.asarray(c["transform"], dtype=np.float64)
     eye = m[:3, 3]
     lin = m[:3, :3]
@@ -415,7 +425,9 @@ def _gltf_camera(c: dict[str, Any], stand: NDArray[np.float64], scene: Scene, no
     if not (np.linalg.norm(forward) > 0 and np.linalg.norm(up) > 0):
         raise ValueError(f"camera {name!r}: its node's transform is singular (no view direction)")
     if np.linalg.det(lin) < 0:
-        notes.append(f"camera {name!r}: its node mirrors; a look-at camera cannot, so the image is not mirrored")
+        notes.append(
+            f"camera {name!r}: its node mirrors; a look-at camera cannot, so the image is not mirrored"
+        )
     forward /= np.linalg.norm(forward)
     up /= np.linalg.norm(up)
     center, radius = _bounds_sphere(scene)
@@ -523,7 +535,9 @@ def load_scene(
         raise IsADirectoryError(f"path: is a directory: {p!r}")
     ext = os.path.splitext(p)[1].lower()
     if ext not in SCENE_EXTENSIONS:
-        raise ValueError(f"path: unsupported scene file type {ext!r} (expected {', '.join(SCENE_EXTENSIONS)})")
+        raise ValueError(
+            f"path: unsupported scene file type {ext!r} (expected {', '.join(SCENE_EXTENSIONS)})"
+        )
     if not isinstance(lights, str) or lights not in ("auto", "file", "default", "none"):
         raise ValueError(f"lights: expected 'auto', 'file', 'default' or 'none', got {lights!r}")
     stand = up_to_y(up)
@@ -538,6 +552,7 @@ def load_scene(
     file_lights: list[dict[str, Any]] = []
     file_cameras: list[dict[str, Any]] = []
     skipped: list[str]
+    raw_parts: list[tuple[Any, ...]]
     if ext in (".gltf", ".glb"):
         fmt = "gltf"
         data = _brdfpy.load_gltf(p)
@@ -553,7 +568,9 @@ def load_scene(
         fmt = "obj"
         data = _brdfpy.load_obj_scene(p)
         materials = [_mtl_material(d, notes) for d in data["materials"]]
-        raw_parts = [(d["name"], d["mesh"], np.eye(4), d["material"], d["uvs"], None, None) for d in data["parts"]]
+        raw_parts = [
+            (d["name"], d["mesh"], np.eye(4), d["material"], d["uvs"], None, None) for d in data["parts"]
+        ]
         skipped = list(data["skipped"])
     else:
         fmt = ext[1:]
@@ -570,8 +587,14 @@ def load_scene(
     asset = scene.asset
     for name, raw, xf, mat_index, uvs, tangents, colors in raw_parts:
         mat = default if mat_index is None else materials[mat_index]
-        if mat.alpha_mode == "MASK" and mat.opacity < mat.alpha_cutoff and "baseColorTexture" not in mat.textures:
-            notes.append(f"{name}: alpha mode MASK with alpha {mat.opacity:g} < cutoff {mat.alpha_cutoff:g}: not drawn")
+        if (
+            mat.alpha_mode == "MASK"
+            and mat.opacity < mat.alpha_cutoff
+            and "baseColorTexture" not in mat.textures
+        ):
+            notes.append(
+                f"{name}: alpha mode MASK with alpha {mat.opacity:g} < cutoff {mat.alpha_cutoff:g}: not drawn"
+            )
             continue
         mesh = raw if isinstance(raw, Mesh) else Mesh._wrap(raw)
         world = stand @ np.asarray(xf, dtype=np.float64)

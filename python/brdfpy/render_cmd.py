@@ -1,5 +1,5 @@
-"""``brdfpy render``: render a built-in scene, the canonical benchmark scene, a user's OBJ/PLY/STL mesh, or a scene
-file (``--scene FILE``: glTF 2.0 ``.gltf``/``.glb``, OBJ with its MTL materials, STL, PLY; see
+"""``brdfpy render``: render a built-in scene, the canonical benchmark scene, a user's OBJ/PLY/STL mesh, or a
+scene file (``--scene FILE``: glTF 2.0 ``.gltf``/``.glb``, OBJ with its MTL materials, STL, PLY; see
 :func:`brdfpy.load_scene`) to PNG.
 
 The built-in scene (no files needed): a gold Cook-Torrance icosphere, a red normalised Blinn-Phong torus and
@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 
 from brdfpy import tonemap as _tonemap
-from brdfpy.assets import SCENE_EXTENSIONS, _default_lights as _view_lights, load_scene
+from brdfpy.assets import SCENE_EXTENSIONS, load_scene
+from brdfpy.assets import _default_lights as _view_lights
 from brdfpy.camera import Camera
 from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
 from brdfpy.mesh import BUILTIN_MESHES, Mesh, builtin_mesh, icosphere, load_mesh, plane, torus
@@ -193,8 +194,11 @@ def build_file_scene(args: argparse.Namespace) -> tuple[Scene, Camera]:
     turned = args.up != "y" or bool(args.rotate)
     stand = stand_transform(args.up, args.rotate)
     try:
-        scene, cams = load_scene(
-            args.scene, transform=stand, lights="none" if args.light else "auto", aspect=args.width / args.height
+        scene, _ = load_scene(
+            args.scene,
+            transform=stand,
+            lights="none" if args.light else "auto",
+            aspect=args.width / args.height,
         )
     except FileNotFoundError:
         raise FileNotFoundError(f"--scene: no such file: {args.scene!r}") from None
@@ -213,8 +217,12 @@ def build_file_scene(args: argparse.Namespace) -> tuple[Scene, Camera]:
     else:
         lo, hi = scene.bounds()
         center, radius = (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
-        cam = Camera.framing(center, radius, (0.0, 0.35, 1.0), fovy=args.fovy, aspect=args.width / args.height)
-        asset.notes.append("framing camera (the file has none)" if n == 0 else "framing camera (--up/--rotate)")
+        cam = Camera.framing(
+            center, radius, (0.0, 0.35, 1.0), fovy=args.fovy, aspect=args.width / args.height
+        )
+        asset.notes.append(
+            "framing camera (the file has none)" if n == 0 else "framing camera (--up/--rotate)"
+        )
     if asset.default_lights:
         scene.lights = _view_lights(cam)
         asset.notes.append("no lights in the file: a key and a fill light relative to the view, ambient 0.1")

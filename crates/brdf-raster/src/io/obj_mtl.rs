@@ -119,21 +119,31 @@ pub fn load_obj_scene(path: impl AsRef<Path>) -> Result<ObjScene, RasterError> {
         let full = base.join(lib);
         let shown = full.display().to_string();
         let Ok(meta) = std::fs::metadata(&full) else {
-            notes.borrow_mut().push(format!("mtllib '{}': no such file; its materials are not applied", lib.display()));
-            return Ok((Vec::new(), HashMap::new()));
+            notes
+                .borrow_mut()
+                .push(format!("mtllib '{}': no such file; its materials are not applied", lib.display()));
+            return Ok((Vec::new(), Default::default()));
         };
-        let parsed = if meta.is_file() { super::read_regular_file(&full) } else { Err(RasterError::File {
-            path: shown.clone(),
-            problem: "cannot read the file: not a regular file".into(),
-        }) }
-        .and_then(|b| {
+        let bytes = if meta.is_file() {
+            super::read_regular_file(&full)
+        } else {
+            Err(RasterError::File {
+                path: shown.clone(),
+                problem: "cannot read the file: not a regular file".into(),
+            })
+        };
+        let parsed = bytes.and_then(|b| {
             obj::utf8(&b).map_err(|p| RasterError::File { path: shown.clone(), problem: p })?;
             tobj::load_mtl_buf(&mut b.as_slice())
                 .map_err(|e| RasterError::File { path: shown.clone(), problem: format!("bad MTL file: {e}") })
         });
         match parsed {
             Ok((mats, map)) => {
-                files.borrow_mut().push((shown, full.parent().map(Path::to_path_buf).unwrap_or_default(), mats.len()));
+                files.borrow_mut().push((
+                    shown,
+                    full.parent().map(Path::to_path_buf).unwrap_or_default(),
+                    mats.len(),
+                ));
                 Ok((mats, map))
             }
             Err(e) => {
@@ -162,7 +172,8 @@ pub fn load_obj_scene(path: impl AsRef<Path>) -> Result<ObjScene, RasterError> {
         .collect::<Result<Vec<_>, RasterError>>()?;
 
     let mut skipped_notes = notes.into_inner();
-    let known: HashMap<&str, usize> = materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i)).collect();
+    let known: HashMap<&str, usize> =
+        materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i)).collect();
     let mut unknown: Vec<&str> = Vec::new();
     for line in filtered.lines() {
         if let Some(rest) = line.strip_prefix("usemtl") {
@@ -173,7 +184,8 @@ pub fn load_obj_scene(path: impl AsRef<Path>) -> Result<ObjScene, RasterError> {
         }
     }
     for n in unknown {
-        skipped_notes.push(format!("usemtl '{n}': no such material in the MTL files; the default material is used"));
+        skipped_notes
+            .push(format!("usemtl '{n}': no such material in the MTL files; the default material is used"));
     }
 
     // Group tobj's models (one per object/material run) by material, in order of first use.
@@ -245,7 +257,9 @@ fn material(m: &tobj::Material, file: &str, dir: &Path) -> Result<ObjMaterial, R
         }
     };
     let shininess = match m.shininess {
-        Some(s) if !(s.is_finite() && s >= 0.0) => return Err(err("Ns", format!("{s} must be finite and >= 0"))),
+        Some(s) if !(s.is_finite() && s >= 0.0) => {
+            return Err(err("Ns", format!("{s} must be finite and >= 0")));
+        }
         other => other,
     };
     let dissolve = match (m.dissolve, number("Tr")?) {
