@@ -181,7 +181,8 @@ def test_a_negative_scale_node_renders_as_the_mirrored_geometry(tmp_path: Path) 
 def appendix_b(
     l: np.ndarray, v: np.ndarray, n: np.ndarray, base: np.ndarray, metal: float, rough: float
 ) -> np.ndarray:
-    """glTF 2.0 Appendix B (B.3): mix(dielectric_brdf, metal_brdf, metallic), float64, per channel."""
+    """glTF 2.0 Appendix B ("Metal BRDF and Dielectric BRDF", its full code):
+    mix(dielectric_brdf, metal_brdf, metallic), float64, per channel."""
     h = l + v
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     nl, nv, nh = (np.sum(n * x, axis=-1) for x in (l, v, h))

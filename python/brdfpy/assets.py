@@ -7,7 +7,7 @@ this module maps what they hold onto brdfpy's models, lights and cameras.
 Implementation") become ``cook_torrance`` with
 
 - ``distribution="ggx"`` (Trowbridge-Reitz) with ``roughness`` (brdfpy's α) = ``roughnessFactor²``,
-- ``masking="smith"`` (height-correlated Smith, the visibility ``V = G/(4 n·l n·v)`` of B.3.2),
+- ``masking="smith"`` (the height-correlated Smith G of Appendix B, "Specular BRDF"),
 - ``fresnel="schlick"`` with ``f0 = mix(0.04, baseColor, metallic)``, ``ks = 1``,
 - ``kd = (1 − metallic)·baseColor`` (the diffuse term ``kd/π``).
 

@@ -199,7 +199,7 @@ pub fn load_gltf_bytes<'py>(py: Python<'py>, data: Vec<u8>) -> PyResult<Bound<'p
 }
 
 fn opt3(v: Option<Vec3>) -> Option<[f32; 3]> {
-    v.map(Vec3::to_array)
+    v.map(|c| c.to_array())
 }
 
 fn obj_material<'py>(py: Python<'py>, m: &ObjMaterial) -> PyResult<Bound<'py, PyDict>> {
