@@ -18,6 +18,7 @@ import os
 from brdfpy import checks, fresnel, measured, microfacet, sampling, sh, tonemap, transforms, vectors, views
 from brdfpy._brdfpy import BrdfError, __version__, get_num_threads, set_num_threads
 from brdfpy._brdfpy import _reset_after_fork as _reset_after_fork
+from brdfpy.assets import SceneAsset, TexturesNotAppliedWarning, load_scene
 from brdfpy.camera import Camera
 from brdfpy.environment import Environment
 from brdfpy.image import Image
@@ -67,8 +68,10 @@ __all__ = [
     "RayCaster",
     "RectLight",
     "Scene",
+    "SceneAsset",
     "SphereLight",
     "SpotLight",
+    "TexturesNotAppliedWarning",
     "__version__",
     "builtin_mesh",
     "checks",
@@ -78,6 +81,7 @@ __all__ = [
     "get_num_threads",
     "icosphere",
     "load_mesh",
+    "load_scene",
     "measured",
     "microfacet",
     "model",

@@ -1,4 +1,6 @@
-"""``brdfpy render``: render a built-in scene, the canonical benchmark scene or a user's OBJ/PLY mesh to PNG.
+"""``brdfpy render``: render a built-in scene, the canonical benchmark scene, a user's OBJ/PLY/STL mesh, or a
+scene file (``--scene FILE``: glTF 2.0 ``.gltf``/``.glb``, OBJ with its MTL materials, STL, PLY; see
+:func:`brdfpy.load_scene`) to PNG.
 
 The built-in scene (no files needed): a gold Cook-Torrance icosphere, a red normalised Blinn-Phong torus and
 Garland's cow (embedded CC0 mesh) in Oren-Nayar clay on a Lambertian floor, lit by a warm key light, a cool
@@ -9,11 +11,16 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import textwrap
 import time
 from typing import Any
 
+import numpy as np
+
 from brdfpy import tonemap as _tonemap
+from brdfpy.assets import SCENE_EXTENSIONS, load_scene
+from brdfpy.assets import _default_lights as _view_lights
 from brdfpy.camera import Camera
 from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
 from brdfpy.mesh import BUILTIN_MESHES, Mesh, builtin_mesh, icosphere, load_mesh, plane, torus
@@ -166,8 +173,82 @@ def _floor(scene: Scene, y: float, size: float) -> None:
     )
 
 
+def _scene_option(text: str) -> str:
+    """``--scene``: ``builtin``, ``canonical``, or a scene file (by its extension)."""
+    if text in SCENES:
+        return text
+    if os.path.splitext(text)[1].lower() in SCENE_EXTENSIONS:
+        return text
+    raise argparse.ArgumentTypeError(
+        f"expected builtin, canonical or a scene file ({', '.join(SCENE_EXTENSIONS)}), got {text!r}"
+    )
+
+
+def build_file_scene(args: argparse.Namespace) -> tuple[Scene, Camera]:
+    """The scene of ``--scene FILE`` and its camera: the file's camera ``--camera N`` (default the first),
+    or, when the file has none or ``--up``/``--rotate`` turn the scene and no ``--camera`` is given, a
+    camera framing it from the front. ``--light`` replaces the file's (or the default) lights, ``--model``
+    every material. Without ``--size`` a file camera's aspect ratio sets the image height."""
+    if args.mesh is not None:
+        raise ValueError("--scene FILE and --mesh: give one of them (--mesh renders one mesh on a floor)")
+    turned = args.up != "y" or bool(args.rotate)
+    stand = stand_transform(args.up, args.rotate)
+    try:
+        scene, _ = load_scene(
+            args.scene,
+            transform=stand,
+            lights="none" if args.light else "auto",
+            aspect=args.width / args.height,
+        )
+    except FileNotFoundError:
+        raise FileNotFoundError(f"--scene: no such file: {args.scene!r}") from None
+    asset = scene.asset  # type: ignore[attr-defined]
+    n = len(asset.cameras)
+    if args.camera is not None and not 0 <= args.camera < max(n, 1):
+        raise ValueError(f"--camera: the file has {n} camera(s) (0..{n - 1}), got {args.camera}")
+    if args.camera is not None and n == 0:
+        raise ValueError(f"--camera: {args.scene} has no cameras")
+    if n and (args.camera is not None or not turned):
+        chosen = asset.cameras[args.camera or 0]
+        cam = chosen.camera
+        if args.size is None and chosen.aspect:
+            args.height = max(1, round(args.width / chosen.aspect))
+        asset.notes.append(f"camera {args.camera or 0} of {n}: {chosen.name!r}")
+    else:
+        lo, hi = scene.bounds()
+        center, radius = (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
+        cam = Camera.framing(
+            center, radius, (0.0, 0.35, 1.0), fovy=args.fovy, aspect=args.width / args.height
+        )
+        asset.notes.append(
+            "framing camera (the file has none)" if n == 0 else "framing camera (--up/--rotate)"
+        )
+    if asset.default_lights:
+        scene.lights = _view_lights(cam)
+        asset.notes.append("no lights in the file: a key and a fill light relative to the view, ambient 0.1")
+    if args.light:
+        for light in (parse_light(t) for t in args.light):
+            scene.add_light(light)
+    if args.model is not None:
+        mat = model(args.model, **parse_params(args.param))
+        for inst in scene.instances:
+            inst.material = mat
+    elif args.param:
+        raise ValueError("--param: name the --model the parameters belong to (it replaces every material)")
+    if args.smooth is not None:
+        for inst in scene.instances:
+            inst.mesh.compute_normals(args.smooth)
+    if args.eye is not None or args.target is not None:
+        eye = _floats(args.eye, "--eye", 3) if args.eye is not None else cam.eye
+        target = _floats(args.target, "--target", 3) if args.target is not None else cam.target
+        cam = Camera.perspective(eye, target, fovy=args.fovy, near=cam.near, far=cam.far)
+    return scene, cam
+
+
 def build_scene(args: argparse.Namespace) -> tuple[Scene, Camera]:
-    """The scene and camera the options ask for (built-in, canonical, or ``--mesh``)."""
+    """The scene and camera the options ask for (built-in, canonical, ``--mesh``, or ``--scene FILE``)."""
+    if args.scene not in SCENES:
+        return build_file_scene(args)
     aspect = args.width / args.height
     if args.param and args.model is None and args.mesh is None:
         raise ValueError(
@@ -311,7 +392,9 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
         "  brdfpy render --light from:1,1,1:2,2,2         # the light that travels along -1,-1,-1\n"
         "  brdfpy render --ao --no-shadows -o ao.png\n"
         "  brdfpy render --scene canonical --level 7 --samples 1 -o sphere.png\n"
-        "  brdfpy render --mesh teapot.ply --up z --rotate 30\n\n"
+        "  brdfpy render --mesh teapot.ply --up z --rotate 30\n"
+        "  brdfpy render --scene helmet.glb --camera 1 -o helmet.png\n"
+        "  brdfpy render --scene part.stl --up z --rotate 45\n\n"
         + textwrap.fill(
             f"Models: {', '.join(models())}. Built-in meshes: {', '.join(BUILTIN_MESHES)}.", width=78
         ),
@@ -325,7 +408,21 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
         help="image file to write (default: brdfpy-render.png in the current folder)",
     )
     r.add_argument(
-        "--scene", choices=SCENES, default="builtin", help="which scene without --mesh (default builtin)"
+        "--scene",
+        type=_scene_option,
+        default="builtin",
+        metavar="builtin|canonical|FILE",
+        help="the built-in scene (default), the canonical benchmark scene, or a scene file: glTF 2.0 "
+        "(.gltf with its .bin/images, .glb) with its materials, lights and cameras, OBJ with its MTL "
+        "materials, STL or PLY, as brdfpy.load_scene reads it (textures are kept but not applied yet); "
+        "rendered through the file's first camera (--camera N) or, without one, a camera framing it",
+    )
+    r.add_argument(
+        "--camera",
+        type=int,
+        default=None,
+        metavar="N",
+        help="with --scene FILE: render through the file's camera N (0-based; default the first)",
     )
     r.add_argument(
         "--mesh",
@@ -398,7 +495,8 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
         choices=UP_AXES,
         default="y",
         type=lambda t: t.strip().lower().lstrip("+"),
-        help="the mesh file's up axis, turned to +y (z for CAD/3D-printing/Blender files; default y)",
+        help="the mesh or scene file's up axis, turned to +y (z for CAD/3D-printing/Blender files; "
+        "default y); with --scene FILE the framing camera is used unless --camera is given",
     )
     r.add_argument(
         "--rotate",
@@ -460,6 +558,9 @@ def run(args: argparse.Namespace) -> int:
     t_render = time.perf_counter() - t1
     img.save(args.output)
     if not args.quiet:
+        asset = getattr(scene, "asset", None)
+        for line in [] if asset is None else [*asset.skipped, *asset.notes]:
+            print(f"{args.scene}: {line}")
         faces = sum(i.mesh.n_faces for i in scene.instances)
         print(
             f"wrote {args.output} ({img.width}x{img.height}, {faces:,} triangles, "

@@ -66,6 +66,7 @@ DATA_CLASSES = {
     "CheckReport",
     "Chi2Result",
     "AlbedoBySampling",
+    "SceneAsset",
 }
 
 
@@ -552,6 +553,7 @@ PARAMS: dict[str, V.Generator] = {
     "near": _f(0.01, 1.0),
     "far": _f(5.0, 100.0),
     "aspect": _f(0.5, 2.0),
+    "lights": _names(lambda: ["auto", "file", "default", "none"]),
     "margin": _f(1.0, 1.5),
     "degrees": lambda r, h: V.number(r, h, -360, 360) if r.random() < 0.8 else bool(r.random() < 0.5),
     "intensity": _channels(0.0, 4.0),

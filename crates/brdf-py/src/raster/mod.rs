@@ -7,8 +7,10 @@
 //! input is checked here again, naming the argument, so that a direct call cannot misbehave either.
 //!
 //! Files: `mesh.rs` (meshes, loaders, procedural and built-in meshes), `camera.rs`, `lights.rs`,
-//! `environment.rs` (environment maps), `render.rs` (frames and `render_scene`).
+//! `environment.rs` (environment maps), `render.rs` (frames and `render_scene`), `assets.rs` (glTF
+//! scenes and OBJ files with their MTL materials).
 
+mod assets;
 mod camera;
 mod environment;
 mod lights;
@@ -24,6 +26,7 @@ use brdf_raster::RasterError;
 
 use crate::errors::{invalid, to_py};
 
+pub use assets::{load_gltf, load_gltf_bytes, load_obj_scene};
 pub use camera::RasterCamera;
 pub use environment::RasterEnvironment;
 pub use lights::{RasterAreaLight, RasterLight};

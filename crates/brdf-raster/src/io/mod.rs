@@ -14,10 +14,12 @@
 
 pub mod gltf_scene;
 mod obj;
+pub mod obj_mtl;
 mod ply;
 mod stl;
 
 pub use gltf_scene::{GltfScene, load_gltf, load_gltf_bytes};
+pub use obj_mtl::{ObjScene, load_obj_scene};
 
 use std::path::Path;
 

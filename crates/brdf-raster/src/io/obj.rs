@@ -4,8 +4,9 @@
 //! coordinates (kept as `(u, 1 − v)`: [`crate::Mesh::uvs`] has glTF's top-left origin), `f` faces with
 //! `v`, `v/vt`, `v//vn` or `v/vt/vn` corners, 1-based or negative (relative) indices. Polygons are
 //! split into a fan `(v₀, v_k, v_{k+1})`, exact for convex polygons. Faces with 1 or 2 corners
-//! and `l` (line) and `p` (point) elements are ignored, as are groups, objects, smoothing groups
-//! and materials (`mtllib` files are never opened).
+//! and `l` (line) and `p` (point) elements are ignored, as are groups, objects and smoothing groups.
+//! [`super::load_mesh`] ignores materials (`mtllib` files are never opened);
+//! [`super::obj_mtl::load_obj_scene`] reads them (`usemtl`, `mtllib`, through tobj's MTL parser).
 //!
 //! Vertex order: tobj welds each distinct (position, normal) pair into one vertex, numbered in
 //! order of first use by a face, so vertices no face uses are dropped and a position used with
@@ -24,31 +25,44 @@ use crate::mesh::MAX_ELEMENTS;
 
 /// Parse a whole OBJ file held in memory.
 pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
+    let text = utf8(bytes)?;
+    let (filtered, skipped) = filter_and_check(text, false)?;
+
+    let mut reader = filtered.as_bytes();
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut reader, &options(), |_| Err(tobj::LoadError::OpenFileFailed))
+            .map_err(|e| format!("bad OBJ file: {e}"))?;
+    // The filtered text has no `o`/`g`/`usemtl` lines, so tobj returns a single model; merging
+    // several would still be correct.
+    collect(&models.iter().collect::<Vec<_>>(), &skipped)
+}
+
+/// The text of an OBJ (or MTL) file, or why it is not UTF-8.
+pub(super) fn utf8(bytes: &[u8]) -> Result<&str, String> {
+    std::str::from_utf8(bytes).map_err(|e| {
         format!(
             "not a text (UTF-8) file: invalid byte at offset {} — is it really an OBJ file?",
             e.valid_up_to()
         )
-    })?;
-    let (filtered, skipped) = filter_and_check(text)?;
+    })
+}
 
+/// tobj's options: one index per corner, polygons triangulated, points and lines dropped.
+pub(super) fn options() -> tobj::LoadOptions {
     // `..Default::default()` stays: the `merging`/`reordering` features (which another crate in a
     // build could enable) add fields to `LoadOptions`.
     #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
+    tobj::LoadOptions {
         single_index: true,
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
         ..Default::default()
-    };
-    let mut reader = filtered.as_bytes();
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
-            .map_err(|e| format!("bad OBJ file: {e}"))?;
+    }
+}
 
-    // The filtered text has no `o`/`g`/`usemtl` lines, so tobj returns a single model; merging
-    // several would still be correct.
+/// tobj's models merged into one mesh's data (vertices renumbered), checked.
+pub(super) fn collect(models: &[&tobj::Model], skipped: &Skipped) -> Result<Loaded, String> {
     let mut loaded = Loaded {
         faces_skipped: skipped.short_faces,
         polygons_triangulated: skipped.polygons,
@@ -60,7 +74,7 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
     let mut all_normals = true;
     let mut all_colors = true;
     let mut all_uvs = true;
-    for model in &models {
+    for model in models {
         let mesh = &model.mesh;
         let base = loaded.positions.len();
         let count = mesh.positions.len() / 3;
@@ -105,14 +119,15 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Loaded, String> {
 
 /// What the line filter dropped.
 #[derive(Default)]
-struct Skipped {
-    short_faces: usize,
-    polygons: usize,
+pub(super) struct Skipped {
+    pub(super) short_faces: usize,
+    pub(super) polygons: usize,
 }
 
-/// Keep only `v`, `vt`, `vn` and `f` lines, checking every face corner's indices; count the faces
-/// with fewer than 3 corners (dropped) and with more than 3 (fan-triangulated by tobj).
-fn filter_and_check(text: &str) -> Result<(String, Skipped), String> {
+/// Keep only `v`, `vt`, `vn` and `f` lines (and `mtllib`, `usemtl` with `materials`), checking every
+/// face corner's indices; count the faces with fewer than 3 corners (dropped) and with more than 3
+/// (fan-triangulated by tobj).
+pub(super) fn filter_and_check(text: &str, materials: bool) -> Result<(String, Skipped), String> {
     // Totals first: a positive index may legally refer to any vertex of the file.
     let mut totals = [0i64; 3];
     for line in text.lines() {
@@ -178,6 +193,7 @@ fn filter_and_check(text: &str) -> Result<(String, Skipped), String> {
                     skipped.polygons += 1;
                 }
             }
+            Some("mtllib" | "usemtl") if materials => {}
             _ => continue,
         }
         out.push_str(line);
