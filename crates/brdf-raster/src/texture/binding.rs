@@ -353,11 +353,24 @@ impl MaterialTextures {
     /// `params` (a copy of [`MaterialTextures::params`]), each clamped into its documented range.
     #[inline]
     pub fn apply(&self, texels: &[Vec4], params: &mut Params) {
+        self.each_value(texels, |slot, v| {
+            params.set_at(slot, v);
+            true
+        });
+    }
+
+    /// Call `f(slot, value)` with every bound parameter's slot in the model's [`Params`] and its value
+    /// at a sample (clamped as [`MaterialTextures::apply`] does), in binding order, until `f` returns
+    /// `false`; `false` then, else `true`.
+    #[inline]
+    pub fn each_value(&self, texels: &[Vec4], mut f: impl FnMut(usize, Value) -> bool) -> bool {
         for b in &self.bound {
             let rgb = match b.source {
                 Source::Texture(r) => {
                     if !b.color {
-                        params.set_at(b.slot, Value::Scalar(r.scalar(texels).clamp(b.min, b.max)));
+                        if !f(b.slot, Value::Scalar(r.scalar(texels).clamp(b.min, b.max))) {
+                            return false;
+                        }
                         continue;
                     }
                     r.rgb(texels)
@@ -371,8 +384,11 @@ impl MaterialTextures {
                 }
             };
             let c = rgb.clamp(Vec3::splat(b.min), Vec3::splat(b.max));
-            params.set_at(b.slot, Value::Color(c.to_array()));
+            if !f(b.slot, Value::Color(c.to_array())) {
+                return false;
+            }
         }
+        true
     }
 
     /// The maps' values at a sample (from [`MaterialTextures::sample_all`]).

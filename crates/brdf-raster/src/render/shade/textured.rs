@@ -4,8 +4,10 @@
 //! Per sample: perspective-correct barycentrics and their screen derivatives
 //! ([`BaryPlanes::at_with_derivatives`]) give the texture coordinates and their change per sample
 //! column and row (the mip level), every distinct texture is sampled once, the bound parameters are
-//! written into their slots (resolved when the material was built) and the model is rebuilt from them
-//! — only when the texels differ from the previous sample's — then the normal map tilts the normal,
+//! written into the model in place where it can ([`Bxdf::set_param`], e.g. Cook–Torrance's `kd`,
+//! `roughness`, `f0`), else into their slots of its parameters (resolved when the material was built)
+//! and the model rebuilt from them — only when the texels differ from the previous sample's — then the
+//! normal map tilts the normal,
 //! the occlusion map scales the ambient and indirect terms and the emission map the emission, and
 //! [`Prepared::illuminate`] evaluates the model with the sample's own obscurance and light
 //! visibilities. The model is evaluated per sample in every shading mode (flat uses the face normal,
@@ -54,7 +56,9 @@ impl<O: Occlusion> ShadeChunk<'_, O> {
         let mut params = tex.params().clone();
         let mut texels: Vec<Vec4> = Vec::with_capacity(tex.textures().len());
         let mut last: Vec<Vec4> = Vec::new();
-        let mut model: Option<M> = None;
+        // The model at the untextured parameters, changed per sample in place while it can be.
+        let mut model: Option<M> = M::from_params(&params).ok();
+        let (mut fast, mut fresh) = (true, false);
         for &local in self.list {
             let id = self.base | u32::from(local);
             let t = &self.chunk.raster[local as usize];
@@ -100,11 +104,21 @@ impl<O: Occlusion> ShadeChunk<'_, O> {
                         };
                         let at2 = |w: Vec3| uv3[0] * w.x + uv3[1] * w.y + uv3[2] * w.z;
                         tex.sample_all(at2(b), at2(db_dc), at2(db_dr), &mut texels);
-                        if model.is_none() || texels != last {
-                            tex.apply(&texels, &mut params);
-                            // Values are clamped into their ranges; a model refusing a combination
-                            // anyway keeps the material's own model there.
-                            model = M::from_params(&params).ok();
+                        if !fresh || texels != last {
+                            // In place where the model can (`Bxdf::set_param`: every bound slot is
+                            // overwritten, so nothing of the last sample stays), else rebuilt. Values
+                            // are clamped into their ranges; a model refusing a combination anyway
+                            // keeps the material's own model there.
+                            let in_place = fast
+                                && model
+                                    .as_mut()
+                                    .is_some_and(|mm| tex.each_value(&texels, |k, v| mm.set_param(k, &v)));
+                            if !in_place {
+                                fast = false;
+                                tex.apply(&texels, &mut params);
+                                model = M::from_params(&params).ok();
+                            }
+                            fresh = true;
                             last.clone_from(&texels);
                         }
                         let maps = tex.maps(&texels);
