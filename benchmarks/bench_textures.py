@@ -82,7 +82,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         for threads in (int(t) for t in args.threads.split(",")):
             brdfpy.set_num_threads(threads)
             times: dict[str, list[float]] = {k: [] for k in scenes}
-            for k, s in scenes.items():
+            for s in scenes.values():
                 s.render(cam, w, h)  # warm-up
             for _ in range(frames):
                 for k, s in scenes.items():
@@ -100,7 +100,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
             rows.append(row)
             print(
                 f"{threads} thread(s): untextured {row['untextured_ms']:.1f} ms, textured "
-                f"{row['textured_ms']:.1f} ms, ratio {row['ratio']:.2f} (target ≤ 1.30; load {row['load_average']})",
+                f"{row['textured_ms']:.1f} ms, ratio {row['ratio']:.2f} (target ≤ 1.30; "
+                f"load {row['load_average']})",
                 flush=True,
             )
     finally:

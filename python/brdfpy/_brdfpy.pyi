@@ -367,7 +367,11 @@ def raster_limits() -> tuple[int, int]: ...
 # textures (crates/brdf-py/src/raster/texture.rs)
 class RasterTexture:
     def __new__(
-        cls, data: NDArray[Any], wrap: str = "repeat", filter: str = "trilinear", colorspace: str | None = None
+        cls,
+        data: NDArray[Any],
+        wrap: str = "repeat",
+        filter: str = "trilinear",
+        colorspace: str | None = None,
     ) -> RasterTexture: ...
     @property
     def width(self) -> int: ...
@@ -393,6 +397,7 @@ _InstanceTextures = tuple[
     float,
     _TextureRead | None,
 ]
+
 def occlusion_cache_info() -> tuple[int, int]: ...
 
 # ray queries and obscurance (crates/brdf-py/src/raycast.rs)

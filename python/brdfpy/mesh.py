@@ -339,7 +339,10 @@ class Mesh:
         # Pickled as its arrays (out-of-band buffers under pickle protocol 5, as Dask sends them) and
         # rebuilt with the same bits: the stored normals are not normalised a second time.
         if self._m.uvs is not None or self._m.tangents is not None:
-            return (_rebuild_textured_mesh, (self.vertices, self.faces, self.normals, self.colors, self.uvs, self.tangents, self._w))
+            return (
+                _rebuild_textured_mesh,
+                (self.vertices, self.faces, self.normals, self.colors, self.uvs, self.tangents, self._w),
+            )
         return (_rebuild_mesh, (self.vertices, self.faces, self.normals, self.colors, self._w))
 
     def __repr__(self) -> str:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, TypedDict, Union
+from typing import Any, TypedDict, Union, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -330,7 +330,10 @@ def model(name: str, /, **params: ParamValue) -> Model:
                 )
             plain[k] = float(mean[0])
         else:
-            raise ValueError(f"{k}: is a {spec['kind']} parameter of {name}: only colour and scalar parameters take a texture")
+            raise ValueError(
+                f"{k}: is a {spec['kind']} parameter of {name}: only colour and scalar parameters take a "
+                "texture"
+            )
     return TexturedModel._build(name, bound, plain)
 
 
@@ -348,7 +351,7 @@ class TexturedModel(Model):
 
     @classmethod
     def _build(cls, name: str, textures: dict[str, Any], params: dict[str, Any]) -> TexturedModel:
-        m = cls.__new__(cls, name, **params)
+        m = cast(TexturedModel, cls.__new__(cls, name, **params))
         m._textures = dict(textures)
         return m
 
@@ -360,9 +363,9 @@ class TexturedModel(Model):
     def _refuse(self, what: str) -> ValueError:
         names = ", ".join(self._textures)
         return ValueError(
-            f"{what}: {names} of this {self.name} model are textures, which need texture coordinates: render "
-            f"it on a mesh with uvs (Scene.add), or use brdfpy.model({self.name!r}, **m.params), the model at "
-            f"the textures' means"
+            f"{what}: {names} of this {self.name} model are textures, which need texture coordinates: "
+            f"render it on a mesh with uvs (Scene.add), or use brdfpy.model({self.name!r}, **m.params), the "
+            f"model at the textures' means"
         )
 
     def eval(self, *args: Any, **kwargs: Any) -> NDArray[np.float32]:
@@ -373,7 +376,9 @@ class TexturedModel(Model):
         """Refused (see :class:`TexturedModel`)."""
         raise self._refuse("shade")
 
-    def sample(self, *args: Any, **kwargs: Any) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+    def sample(
+        self, *args: Any, **kwargs: Any
+    ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
         """Refused (see :class:`TexturedModel`)."""
         raise self._refuse("sample")
 

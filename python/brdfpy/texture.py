@@ -138,7 +138,8 @@ class Texture:
 
     @property
     def mean(self) -> tuple[float, float, float, float]:
-        """The mean of each channel over the image as RGBA (one channel reads as grey, alpha 1 without one)."""
+        """The mean of each channel over the image as RGBA (one channel reads as grey, alpha 1 without
+        one)."""
         m = self._t.mean
         return (float(m[0]), float(m[1]), float(m[2]), float(m[3]))
 
@@ -156,8 +157,16 @@ class Texture:
         (``(N, 2)`` each, zero by default: the base level); float32 ``(N, 4)``."""
         u = np.ascontiguousarray(np.asarray(uv, dtype=np.float32).reshape(-1, 2))
         zero = np.zeros_like(u)
-        dx = zero if duv_dx is None else np.ascontiguousarray(np.asarray(duv_dx, dtype=np.float32).reshape(-1, 2))
-        dy = zero if duv_dy is None else np.ascontiguousarray(np.asarray(duv_dy, dtype=np.float32).reshape(-1, 2))
+        dx = (
+            zero
+            if duv_dx is None
+            else np.ascontiguousarray(np.asarray(duv_dx, dtype=np.float32).reshape(-1, 2))
+        )
+        dy = (
+            zero
+            if duv_dy is None
+            else np.ascontiguousarray(np.asarray(duv_dy, dtype=np.float32).reshape(-1, 2))
+        )
         out: NDArray[np.float32] = self._t.sample(u, dx, dy)
         return out
 
@@ -167,7 +176,9 @@ class Texture:
         if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
             raise TypeError(f"channel: expected an integer 0-3, got {type(k).__name__}")
         if not 0 <= int(k) < self.channels:
-            raise ValueError(f"channel: must be in 0..{self.channels - 1} for a {self.channels}-channel texture, got {k}")
+            raise ValueError(
+                f"channel: must be in 0..{self.channels - 1} for a {self.channels}-channel texture, got {k}"
+            )
         return TextureChannel(self, int(k))
 
     def __repr__(self) -> str:

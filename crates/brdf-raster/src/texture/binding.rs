@@ -103,6 +103,10 @@ impl TextureRef {
 pub enum ParamSource {
     /// `factor ∘ texel` of one texture (RGB for a colour parameter, one channel for a scalar one).
     Texture(TextureRef),
+    /// The square of what one texture gives, `(factor ∘ texel)²`: glTF's perceptual roughness `r` of
+    /// the metallic-roughness texture (G) is the microfacet `α = r²` of `cook_torrance`'s `roughness`
+    /// (glTF 2.0 appendix B).
+    Squared(TextureRef),
     /// glTF 2.0 appendix B's diffuse colour `(1 − metallic)·baseColor` (colour parameters).
     MetallicDiffuse {
         /// The base colour (RGB).
@@ -153,6 +157,7 @@ impl Read {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Source {
     Texture(Read),
+    Squared(Read),
     MetallicDiffuse(Read, Read),
     MetallicF0(Read, Read),
 }
@@ -285,6 +290,10 @@ impl MaterialTextures {
                 r.check(p.name, !color)?;
                 Source::Texture(self.resolve(&r)?)
             }
+            ParamSource::Squared(r) => {
+                r.check(p.name, !color)?;
+                Source::Squared(self.resolve(&r)?)
+            }
             ParamSource::MetallicDiffuse { base_color, metallic }
             | ParamSource::MetallicF0 { base_color, metallic }
                 if !color =>
@@ -374,6 +383,17 @@ impl MaterialTextures {
                         continue;
                     }
                     r.rgb(texels)
+                }
+                Source::Squared(r) => {
+                    if !b.color {
+                        let x = r.scalar(texels);
+                        if !f(b.slot, Value::Scalar((x * x).clamp(b.min, b.max))) {
+                            return false;
+                        }
+                        continue;
+                    }
+                    let c = r.rgb(texels);
+                    c * c
                 }
                 Source::MetallicDiffuse(base, m) => {
                     base.rgb(texels) * (1.0 - m.scalar(texels).clamp(0.0, 1.0))
@@ -475,5 +495,9 @@ mod tests {
         assert_eq!(p.color("kd"), Vec3::new(0.5, 0.25, 0.125));
         assert!((p.color("f0") - Vec3::new(0.52, 0.27, 0.145)).abs().max_element() < 1e-6);
         assert_eq!(p.color("ks"), Vec3::ONE, "3 is clamped to ks's range [0, 1]");
+        let half = TextureRef::rgb(grey(0.5)).with_factor(Vec3::splat(0.8));
+        let mt = MaterialTextures::new(params).bind("roughness", ParamSource::Squared(half)).unwrap();
+        let alpha = mt.mean_params().scalar("roughness");
+        assert!((alpha - 0.16).abs() < 1e-7, "glTF: alpha = (0.8 * 0.5)^2, got {alpha}");
     }
 }
