@@ -121,7 +121,7 @@ def test_the_mip_chain_is_the_area_average_of_the_level_above_it_also_for_odd_si
 def test_trilinear_blends_the_two_levels_around_lambda_from_the_uv_derivatives() -> None:
     img = RNG.random((16, 16)).astype(np.float32)
     t = brdfpy.Texture(img, wrap="repeat")
-    levels = ref_levels(img)
+    levels = ref_levels(img[..., None])
     uv = RNG.uniform(0, 1, (300, 2)).astype(np.float32)
     # Footprints of 0.5 to 20 texels per screen step along a random direction, y a shorter one.
     rho = np.exp(RNG.uniform(np.log(0.5), np.log(20.0), 300))
@@ -133,8 +133,8 @@ def test_trilinear_blends_the_two_levels_around_lambda_from_the_uv_derivatives()
     d = np.floor(lam).astype(int)
     want = np.empty(300)
     for k in range(300):
-        a = ref_bilinear(levels[d[k]], uv[k : k + 1], "repeat")[0]
-        b = ref_bilinear(levels[min(d[k] + 1, len(levels) - 1)], uv[k : k + 1], "repeat")[0]
+        a = ref_bilinear(levels[d[k]], uv[k : k + 1], "repeat")[0, 0]
+        b = ref_bilinear(levels[min(d[k] + 1, len(levels) - 1)], uv[k : k + 1], "repeat")[0, 0]
         f = lam[k] - d[k]
         want[k] = a * (1 - f) + b * f
     np.testing.assert_allclose(got, want, atol=1e-5)
