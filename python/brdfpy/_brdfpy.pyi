@@ -365,6 +365,7 @@ def render_scene(
 def raster_limits() -> tuple[int, int]: ...
 
 # textures (crates/brdf-py/src/raster/texture.rs)
+@final
 class RasterTexture:
     def __new__(
         cls,
