@@ -44,9 +44,10 @@ from brdfpy.mesh import (
     polygon_normal,
     torus,
 )
-from brdfpy.models import Model, ModelInfo, ParamInfo, model, model_info, models
+from brdfpy.models import Model, ModelInfo, ParamInfo, TexturedModel, model, model_info, models
 from brdfpy.raycast import Hits, RayCaster
 from brdfpy.scene import Instance, Scene
+from brdfpy.texture import Texture, TextureChannel
 
 __all__ = [
     "BUILTIN_MESHES",
@@ -71,6 +72,9 @@ __all__ = [
     "SceneAsset",
     "SphereLight",
     "SpotLight",
+    "Texture",
+    "TextureChannel",
+    "TexturedModel",
     "TexturesNotAppliedWarning",
     "__version__",
     "builtin_mesh",

@@ -182,7 +182,14 @@ class RasterMesh:
         faces: NDArray[np.uint32],
         normals: _F32 | None = None,
         colors: _F32 | None = None,
+        uvs: _F32 | None = None,
+        tangents: _F32 | None = None,
     ) -> RasterMesh: ...
+    @property
+    def uvs(self) -> _F32 | None: ...
+    @property
+    def tangents(self) -> _F32 | None: ...
+    def with_generated_tangents(self) -> RasterMesh: ...
     @property
     def vertices(self) -> _F32: ...
     @property
@@ -356,8 +363,45 @@ def render_scene(
     area_lights: Sequence[RasterAreaLight] | None = None,
     area_samples: int = 16,
     area_seed: int = 0,
+    textures: Sequence[_InstanceTextures | None] | None = None,
 ) -> RasterFrame: ...
 def raster_limits() -> tuple[int, int]: ...
+
+# textures (crates/brdf-py/src/raster/texture.rs)
+@final
+class RasterTexture:
+    def __new__(
+        cls,
+        data: NDArray[Any],
+        wrap: str = "repeat",
+        filter: str = "trilinear",
+        colorspace: str | None = None,
+    ) -> RasterTexture: ...
+    @property
+    def width(self) -> int: ...
+    @property
+    def height(self) -> int: ...
+    @property
+    def channels(self) -> int: ...
+    @property
+    def wrap(self) -> str: ...
+    @property
+    def filter(self) -> str: ...
+    @property
+    def mean(self) -> list[float]: ...
+    def levels(self) -> list[_F32]: ...
+    def sample(self, uv: _F32, duv_dx: _F32, duv_dy: _F32) -> _F32: ...
+
+_TextureRead = tuple[RasterTexture, int | None]
+_InstanceTextures = tuple[
+    Sequence[tuple[str, RasterTexture, int | None]],
+    _TextureRead | None,
+    float,
+    _TextureRead | None,
+    float,
+    _TextureRead | None,
+]
+
 def occlusion_cache_info() -> tuple[int, int]: ...
 
 # ray queries and obscurance (crates/brdf-py/src/raycast.rs)

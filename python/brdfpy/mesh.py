@@ -129,6 +129,13 @@ class Mesh:
         normals are computed from the faces with angle weighting (see :meth:`compute_normals`).
     colors : array_like, shape (V, 3), optional
         Per-vertex linear RGB colors; they multiply the lit (not emitted) color in renders.
+    uvs : array_like, shape (V, 2), optional
+        Per-vertex texture coordinates, glTF's convention: ``(0, 0)`` is the top-left corner of the image,
+        ``v`` grows downward (see :mod:`brdfpy.texture`). A material with textures needs them.
+    tangents : array_like, shape (V, 4), optional
+        Per-vertex tangents ``(t, w)`` as glTF's TANGENT: ``t`` along increasing ``u``, bitangent
+        ``w·(n × t)`` up the image, ``w = ±1``. A normal map needs them; :meth:`with_generated_tangents`
+        computes them (MikkTSpace).
 
     Raises
     ------
@@ -165,6 +172,8 @@ class Mesh:
         normals: ArrayLike | None = None,
         *,
         colors: ArrayLike | None = None,
+        uvs: ArrayLike | None = None,
+        tangents: ArrayLike | None = None,
     ) -> None:
         v = _rows("vertices", vertices, np.float32)
         f = _rows("faces", faces, np.uint32)
@@ -180,7 +189,13 @@ class Mesh:
         c = None if colors is None else _rows("colors", colors, np.float32)
         if c is not None and len(c) != len(v):
             raise ValueError(f"colors: {len(c)} rows for {len(v)} vertices")
-        self._m = _brdfpy.RasterMesh(v, f, n, c)
+        uv = None if uvs is None else _rows("uvs", uvs, np.float32, 2)
+        if uv is not None and len(uv) != len(v):
+            raise ValueError(f"uvs: {len(uv)} rows for {len(v)} vertices")
+        t = None if tangents is None else _rows("tangents", tangents, np.float32, 4)
+        if t is not None and len(t) != len(v):
+            raise ValueError(f"tangents: {len(t)} rows for {len(v)} vertices")
+        self._m = _brdfpy.RasterMesh(v, f, n, c, uv, t)
         self._w = None
 
     @classmethod
@@ -281,6 +296,33 @@ class Mesh:
         return None if c is None else _readonly(c)
 
     @property
+    def uvs(self) -> NDArray[np.float32] | None:
+        """Per-vertex texture coordinates, float32 (V, 2) (glTF's convention, ``v`` down), or ``None``."""
+        u = self._m.uvs
+        return None if u is None else _readonly(u)
+
+    @property
+    def tangents(self) -> NDArray[np.float32] | None:
+        """Per-vertex tangents ``(t, w)``, float32 (V, 4), or ``None``."""
+        t = self._m.tangents
+        return None if t is None else _readonly(t)
+
+    def with_generated_tangents(self) -> Mesh:
+        """A copy with MikkTSpace tangents (Mikkelsen 2008, what glTF prescribes for normal maps) computed
+        from the positions, normals and :attr:`uvs`; the mesh itself when it has tangents.
+
+        Raises
+        ------
+        ValueError
+            If the mesh has no texture coordinates.
+        """
+        if self._m.tangents is not None:
+            return self
+        m = Mesh._wrap(self._m.with_generated_tangents())
+        m._w = self._w
+        return m
+
+    @property
     def n_vertices(self) -> int:
         """Number of vertices."""
         return self._m.n_vertices
@@ -296,6 +338,11 @@ class Mesh:
     def __reduce__(self) -> tuple[Any, ...]:
         # Pickled as its arrays (out-of-band buffers under pickle protocol 5, as Dask sends them) and
         # rebuilt with the same bits: the stored normals are not normalised a second time.
+        if self._m.uvs is not None or self._m.tangents is not None:
+            return (
+                _rebuild_textured_mesh,
+                (self.vertices, self.faces, self.normals, self.colors, self.uvs, self.tangents, self._w),
+            )
         return (_rebuild_mesh, (self.vertices, self.faces, self.normals, self.colors, self._w))
 
     def __repr__(self) -> str:
@@ -511,6 +558,20 @@ def _rebuild_mesh(
     ids = np.require(faces, np.uint32, ["C", "A"])
     raw = _brdfpy._mesh_from_parts(f32(vertices), ids, f32(normals), None if colors is None else f32(colors))
     m = Mesh._wrap(raw)
+    m.obscurance = obscurance
+    return m
+
+
+def _rebuild_textured_mesh(
+    vertices: NDArray[np.float32],
+    faces: NDArray[np.uint32],
+    normals: NDArray[np.float32],
+    colors: NDArray[np.float32] | None,
+    uvs: NDArray[np.float32] | None,
+    tangents: NDArray[np.float32] | None,
+    obscurance: NDArray[np.float32] | None,
+) -> Mesh:
+    m = Mesh(vertices, faces, normals, colors=colors, uvs=uvs, tangents=tangents)
     m.obscurance = obscurance
     return m
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, TypedDict, Union
+from typing import Any, TypedDict, Union, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from brdfpy import _brdfpy
 from brdfpy._arrays import as_vectors
 
-__all__ = ["Model", "ModelInfo", "ParamInfo", "ParamValue", "model", "model_info", "models"]
+__all__ = ["Model", "ModelInfo", "ParamInfo", "ParamValue", "TexturedModel", "model", "model_info", "models"]
 
 #: What a parameter accepts: a number, a bool, a choice name, or numbers (an RGB color, rows of an array).
 ParamValue = Union[float, bool, str, Sequence[float], Sequence[Sequence[float]], NDArray[Any]]
@@ -297,5 +297,105 @@ def model(name: str, /, **params: ParamValue) -> Model:
     >>> m = brdfpy.model("lambert", kd=(0.8, 0.5, 0.2))
     >>> m.eval([0, 0, 1], [0, 0.6, 0.8], [0, 0, 1])  # kd / pi
     array([0.25464791, 0.15915494, 0.06366198], dtype=float32)
+
+    Any colour or scalar parameter may be a :class:`brdfpy.Texture` instead, read at every shaded point of
+    a mesh with texture coordinates: a colour takes the texture's RGB (a 1-channel texture as grey), a
+    scalar one channel (``roughness=tex.channel(1)``; a 1-channel texture as it is). Values are clamped into
+    the parameter's documented range. The result is a :class:`TexturedModel`.
     """
-    return Model(name, **params)
+    from brdfpy.texture import Texture, TextureChannel
+
+    bound = {k: v for k, v in params.items() if isinstance(v, (Texture, TextureChannel))}
+    if not bound:
+        return Model(name, **params)
+    info = model_info(name)
+    specs = {p["name"]: p for p in info["params"]}
+    plain: dict[str, Any] = {k: v for k, v in params.items() if k not in bound}
+    for k, t in bound.items():
+        spec = specs.get(k)
+        if spec is None:
+            Model(name, **{k: 0.0})  # the registry's own message (unknown or renamed parameter)
+            raise ValueError(f"{name} has no parameter {k!r}")  # pragma: no cover - the line above raises
+        tex = t.texture if isinstance(t, TextureChannel) else t
+        mean = np.asarray(tex.mean[:3] if not isinstance(t, TextureChannel) else [tex.mean[t.index]] * 3)
+        lo, hi = spec["min"], spec["max"]
+        mean = np.clip(mean, -np.inf if lo is None else lo, np.inf if hi is None else hi)
+        if spec["kind"] == "color":
+            plain[k] = [float(x) for x in mean]
+        elif spec["kind"] == "scalar":
+            if isinstance(t, Texture) and t.channels != 1:
+                raise ValueError(
+                    f"{k}: is a scalar parameter: it reads one channel of a {t.channels}-channel texture; "
+                    f"choose it with tex.channel(k) (e.g. channel(1), green, for glTF's roughness)"
+                )
+            plain[k] = float(mean[0])
+        else:
+            raise ValueError(
+                f"{k}: is a {spec['kind']} parameter of {name}: only colour and scalar parameters take a "
+                "texture"
+            )
+    return TexturedModel._build(name, bound, plain)
+
+
+class TexturedModel(Model):
+    """A :class:`Model` some of whose parameters are read from textures (from :func:`brdfpy.model` with a
+    :class:`brdfpy.Texture` value). It renders on meshes with texture coordinates (``Mesh(..., uvs=...)``);
+    :attr:`params` holds the textures' means (clamped into range) for the bound parameters, the value used
+    for the material's default ambient reflectance. :meth:`eval`, :meth:`shade`, :meth:`sample` and
+    :meth:`pdf` refuse: a texture needs texture coordinates, which directions alone do not have;
+    ``brdfpy.model(m.name, **m.params)`` is the model at the means."""
+
+    __slots__ = ("_textures",)
+
+    _textures: dict[str, Any]
+
+    @classmethod
+    def _build(cls, name: str, textures: dict[str, Any], params: dict[str, Any]) -> TexturedModel:
+        m = cast(TexturedModel, cls.__new__(cls, name, **params))
+        m._textures = dict(textures)
+        return m
+
+    @property
+    def textures(self) -> dict[str, Any]:
+        """The bound parameters: name → :class:`brdfpy.Texture` or ``Texture.channel(k)``."""
+        return dict(self._textures)
+
+    def _refuse(self, what: str) -> ValueError:
+        names = ", ".join(self._textures)
+        return ValueError(
+            f"{what}: {names} of this {self.name} model are textures, which need texture coordinates: "
+            f"render it on a mesh with uvs (Scene.add), or use brdfpy.model({self.name!r}, **m.params), the "
+            f"model at the textures' means"
+        )
+
+    def eval(self, *args: Any, **kwargs: Any) -> NDArray[np.float32]:
+        """Refused (see :class:`TexturedModel`)."""
+        raise self._refuse("eval")
+
+    def shade(self, *args: Any, **kwargs: Any) -> NDArray[np.float32]:
+        """Refused (see :class:`TexturedModel`)."""
+        raise self._refuse("shade")
+
+    def sample(
+        self, *args: Any, **kwargs: Any
+    ) -> tuple[NDArray[np.float32], NDArray[np.float32], NDArray[np.float32]]:
+        """Refused (see :class:`TexturedModel`)."""
+        raise self._refuse("sample")
+
+    def pdf(self, *args: Any, **kwargs: Any) -> NDArray[np.float32]:
+        """Refused (see :class:`TexturedModel`)."""
+        raise self._refuse("pdf")
+
+    def __repr__(self) -> str:
+        plain = {k: v for k, v in self.params.items() if k not in self._textures}
+        parts = [repr(self.name)] + [f"{k}={v!r}" for k, v in self._textures.items()]
+        parts += [f"{k}={v!r}" for k, v in plain.items()]
+        return f"brdfpy.model({', '.join(parts)})"
+
+    def __reduce__(self) -> Any:
+        return (_rebuild_textured, (self.name, self._textures, dict(self.params)))
+
+
+def _rebuild_textured(name: str, textures: dict[str, Any], params: dict[str, Any]) -> TexturedModel:
+    plain = {k: v for k, v in params.items() if k not in textures}
+    return TexturedModel._build(name, textures, {**plain, **{k: params[k] for k in textures}})

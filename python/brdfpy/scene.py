@@ -34,6 +34,7 @@ from brdfpy.image import Image
 from brdfpy.lights import Light, color3
 from brdfpy.mesh import Mesh, _mat4
 from brdfpy.models import Model
+from brdfpy.texture import Texture, TextureChannel, texture_read
 
 __all__ = ["MAX_IMAGE_SIDE", "MAX_PIXELS", "OUTPUTS", "SHADING_MODES", "Instance", "ProgressBar", "Scene"]
 
@@ -73,10 +74,22 @@ ProgressArg = Union[None, bool, Callable[[float], Any]]
 class Instance:
     """One mesh placed in a scene: ``mesh``, ``material`` (a :class:`brdfpy.Model`), ``transform`` (4×4,
     object → world), ``ambient`` (``k_a``, linear RGB, or ``None`` for the material's white-sky albedo) and
-    ``emission`` (linear RGB). Returned by
+    ``emission`` (linear RGB), and its maps: ``normal_map`` (with ``normal_scale``), ``occlusion_map`` (with
+    ``occlusion_strength``) and ``emission_map`` (a :class:`brdfpy.Texture` or ``None`` each). Returned by
     :meth:`Scene.add`; its attributes may be reassigned (they are checked again at render time)."""
 
-    __slots__ = ("ambient", "emission", "material", "mesh", "transform")
+    __slots__ = (
+        "ambient",
+        "emission",
+        "emission_map",
+        "material",
+        "mesh",
+        "normal_map",
+        "normal_scale",
+        "occlusion_map",
+        "occlusion_strength",
+        "transform",
+    )
 
     def __init__(
         self, mesh: Mesh, material: Model, transform: NDArray[np.float64], ambient: Any, emission: Any
@@ -86,6 +99,30 @@ class Instance:
         self.transform = transform
         self.ambient = ambient
         self.emission = emission
+        self.normal_map: Any = None
+        self.normal_scale = 1.0
+        self.occlusion_map: Any = None
+        self.occlusion_strength = 1.0
+        self.emission_map: Any = None
+
+    def _texture_args(self) -> tuple[Any, ...] | None:
+        """What the compiled renderer takes for this instance's textures, or ``None`` without any."""
+        bound = getattr(self.material, "_textures", None) or {}
+        if not bound and self.normal_map is None and self.occlusion_map is None and self.emission_map is None:
+            return None
+        params = [(k, *texture_read(k, t)) for k, t in bound.items()]
+
+        def opt(name: str, t: Any) -> tuple[Any, int | None] | None:
+            return None if t is None else texture_read(name, t)
+
+        return (
+            params,
+            opt("normal_map", self.normal_map),
+            as_float("normal_scale", self.normal_scale),
+            opt("occlusion_map", self.occlusion_map),
+            as_float("occlusion_strength", self.occlusion_strength),
+            opt("emission", self.emission_map),
+        )
 
     def __repr__(self) -> str:
         return f"Instance({self.mesh!r}, material={self.material!r})"
@@ -247,6 +284,10 @@ class Scene:
         *,
         ambient: Any = None,
         emission: Any = 0.0,
+        normal_map: Texture | None = None,
+        normal_scale: float = 1.0,
+        occlusion_map: Texture | TextureChannel | None = None,
+        occlusion_strength: float = 1.0,
     ) -> Instance:
         """Add a mesh with a material; returns its :class:`Instance`.
 
@@ -265,8 +306,26 @@ class Scene:
             (or shown as it is when the scene has none). ``None`` (default): the material's white-sky
             albedo under the scene's ``ambient_light`` (see :class:`Scene`), nothing without one. The
             canonical benchmark scene uses ``0.05·kd``.
-        emission : number or three numbers
-            Emitted radiance (linear RGB), added unlit.
+        emission : number, three numbers or Texture
+            Emitted radiance (linear RGB), added unlit; a :class:`brdfpy.Texture` emits its RGB (an emission
+            map, glTF's ``emissiveTexture``; set :attr:`Instance.emission` to scale it).
+        normal_map : Texture, optional
+            A tangent-space normal map (glTF's ``normalTexture``, linear RGB: load 8-bit files with
+            ``colorspace="linear"``): the shading normal becomes ``normalize(T·x·s + B·y·s + N·z)`` with
+            ``(x, y, z) = 2·rgb − 1``, ``s = normal_scale``, ``N`` the interpolated normal, ``T`` the
+            mesh's tangent and ``B = w·(N × T)``. A mesh without :attr:`Mesh.tangents` gets MikkTSpace
+            tangents here (:meth:`Mesh.with_generated_tangents`); it needs :attr:`Mesh.uvs`.
+        occlusion_map : Texture or Texture.channel(k), optional
+            Ambient occlusion baked in texture space (glTF's ``occlusionTexture``, red channel unless a
+            channel is chosen): the ambient and indirect terms are multiplied by
+            ``1 + occlusion_strength·(r − 1)``. Shadows and ``ao`` are computed per pixel as ever.
+
+        Textures (these maps and any texture-bound parameter of ``material``, see :func:`brdfpy.model`)
+        are read at the perspective-correct texture coordinates of every shaded sample, in every shading
+        mode (``"flat"`` and ``"gouraud"`` then evaluate the model per sample too, with the face normal and
+        the interpolated vertex normal). A material with textures on a mesh without :attr:`Mesh.uvs` is
+        refused at render time. With textured parameters the default ``ambient`` is the white-sky albedo
+        of the model at the textures' means; environment and area lights see that model too.
         """
         # The scene keeps the mesh as it is now (a copy-on-write handle, no data copied).
         m = Mesh.from_any(mesh).copy()
@@ -283,7 +342,22 @@ class Scene:
         if abs(np.linalg.det(xf[:3, :3])) == 0:
             raise ValueError("transform: is singular (its 3×3 part has determinant 0)")
         ka = None if ambient is None else color3("ambient", ambient)
+        emission_map = None
+        if isinstance(emission, Texture):
+            emission_map, emission = emission, 1.0
+        if normal_map is not None:
+            if not isinstance(normal_map, Texture):
+                raise TypeError(f"normal_map: expected a brdfpy.Texture, got {type(normal_map).__name__}")
+            if m.uvs is None:
+                raise ValueError("normal_map: the mesh has no texture coordinates (Mesh(..., uvs=...))")
+            m = m.with_generated_tangents()
+        if occlusion_map is not None:
+            texture_read("occlusion_map", occlusion_map)
         inst = Instance(m, material, xf, ka, color3("emission", emission))
+        inst.normal_map, inst.normal_scale = normal_map, as_float("normal_scale", normal_scale)
+        inst.occlusion_map = occlusion_map
+        inst.occlusion_strength = as_float("occlusion_strength", occlusion_strength)
+        inst.emission_map = emission_map
         self.instances.append(inst)
         return inst
 
@@ -461,6 +535,8 @@ class Scene:
             )
             for inst in self.instances
         ]
+        tex_args = [inst._texture_args() for inst in self.instances]
+        textures = None if all(t is None for t in tex_args) else tex_args
         frame = _brdfpy.render_scene(
             instances,
             [light._l for light in self.lights if isinstance(light._l, _brdfpy.RasterLight)],
@@ -487,6 +563,7 @@ class Scene:
             [light._l for light in self.lights if isinstance(light._l, _brdfpy.RasterAreaLight)],
             area_n,
             area_s,
+            textures,
         )
         return Image(frame)
 

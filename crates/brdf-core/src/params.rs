@@ -393,6 +393,26 @@ impl Params {
         }
     }
 
+    /// The registry name of the model these parameters belong to.
+    pub fn model(&self) -> &'static str {
+        self.model
+    }
+
+    /// The slot of parameter `name` (its index in [`Params::values`], the spec's order), if the
+    /// model has it: resolve a name once, then [`Params::set_at`] by slot in a loop.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.values.iter().position(|(n, _)| *n == name)
+    }
+
+    /// Replace the value in slot `i` (from [`Params::index_of`]; the caller has validated `value`
+    /// against the spec). O(1); out-of-range slots are ignored.
+    #[inline]
+    pub fn set_at(&mut self, i: usize, value: Value) {
+        if let Some(slot) = self.values.get_mut(i) {
+            slot.1 = value;
+        }
+    }
+
     /// Replace one value (already validated by the caller against the spec).
     pub fn set(&mut self, name: &'static str, value: Value) {
         if let Some(slot) = self.values.iter_mut().find(|(n, _)| *n == name) {

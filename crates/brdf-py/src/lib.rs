@@ -46,10 +46,10 @@ mod _brdfpy {
     use super::pickle::{_frame_from_state, _frame_state, _light_with_direction, _mesh_from_parts};
     #[pymodule_export]
     use super::raster::{
-        RasterAreaLight, RasterCamera, RasterEnvironment, RasterFrame, RasterLight, RasterMesh, builtin_mesh,
-        builtin_mesh_names, cube, icosphere, load_gltf, load_gltf_bytes, load_mesh, load_mesh_bytes,
-        load_obj_scene, occlusion_cache_info, open_box, plane, polygon_normal, raster_limits, render_scene,
-        torus,
+        RasterAreaLight, RasterCamera, RasterEnvironment, RasterFrame, RasterLight, RasterMesh,
+        RasterTexture, builtin_mesh, builtin_mesh_names, cube, icosphere, load_gltf, load_gltf_bytes,
+        load_mesh, load_mesh_bytes, load_obj_scene, occlusion_cache_info, open_box, plane, polygon_normal,
+        raster_limits, render_scene, torus,
     };
     #[pymodule_export]
     use super::raycast::{RayCaster, mesh_obscurance};

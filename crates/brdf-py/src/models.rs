@@ -201,6 +201,11 @@ impl Model {
     pub fn core(&self) -> &brdf_core::Model {
         &self.inner
     }
+
+    /// The resolved parameters the model was built from (for texture bindings, which rebuild it).
+    pub fn core_params(&self) -> &Params {
+        &self.params
+    }
 }
 
 #[pymethods]

@@ -22,6 +22,7 @@ pub mod scene;
 pub mod setup;
 pub mod shading;
 pub mod shadows;
+pub mod texture;
 pub mod tiles;
 
 pub use camera::{Camera, Projection};
@@ -33,3 +34,4 @@ pub use render::{
 };
 pub use scene::{Instance, Material, Scene};
 pub use shading::ShadingMode;
+pub use texture::{ColorSpace, MaterialTextures, Texture};

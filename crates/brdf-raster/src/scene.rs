@@ -6,6 +6,7 @@ use brdf_core::Model;
 use brdf_core::lights::Light;
 use glam::{Mat3, Mat4, Vec3};
 
+use crate::texture::MaterialTextures;
 use crate::{Mesh, RasterError};
 
 /// A surface's appearance in the Phong illumination model (Phong 1975; Theoharis et al. 2008, ch. 12):
@@ -17,14 +18,34 @@ pub struct Material {
     pub model: Model,
     /// Ambient reflectance `k_a` (linear RGB), multiplied by the scene's ambient light `I_a`.
     pub ambient: Vec3,
-    /// Emitted radiance `I_e` (linear RGB), added unlit.
+    /// Emitted radiance `I_e` (linear RGB), added unlit (times the emission map, if any).
     pub emission: Vec3,
+    /// Parameters of `model` read from textures, normal, occlusion and emission maps
+    /// ([`crate::texture::binding`]); `None` for a material without textures. `model` is then the
+    /// model at the textures' means, used where no texture coordinates are (and by environment and
+    /// area lighting, which see the material's model as a whole).
+    pub textures: Option<Arc<MaterialTextures>>,
 }
 
 impl Material {
     /// A material with no ambient reflectance and no emission.
     pub fn new(model: Model) -> Self {
-        Self { model, ambient: Vec3::ZERO, emission: Vec3::ZERO }
+        Self { model, ambient: Vec3::ZERO, emission: Vec3::ZERO, textures: None }
+    }
+
+    /// Read parameters (and maps) from textures; `textures` must be over this material's model.
+    ///
+    /// Errors: the textures' parameters belong to another model.
+    pub fn with_textures(mut self, textures: MaterialTextures) -> Result<Self, RasterError> {
+        let (a, b) = (textures.params().model(), self.model.spec().name);
+        if a != b {
+            return Err(RasterError::arg(
+                "textures",
+                format!("are bound to {a}'s parameters, the material is {b}"),
+            ));
+        }
+        self.textures = Some(Arc::new(textures));
+        Ok(self)
     }
 
     /// Set the ambient reflectance `k_a`.
@@ -154,6 +175,27 @@ impl Scene {
                 return Err(RasterError::arg("transform", format!("instance {k}: singular (det {det})")));
             }
             inst.material.validate()?;
+            if let Some(t) = &inst.material.textures {
+                if t.reads_textures() && inst.mesh.uvs.is_none() {
+                    return Err(RasterError::arg(
+                        "textures",
+                        format!(
+                            "instance {k}: the material reads textures ({}) but the mesh has no texture \
+                             coordinates (uvs)",
+                            texture_uses(t)
+                        ),
+                    ));
+                }
+                if t.has_normal_map() && inst.mesh.tangents.is_none() {
+                    return Err(RasterError::arg(
+                        "normal_map",
+                        format!(
+                            "instance {k}: the mesh has no tangents; give them, or generate them with \
+                             Mesh::with_generated_tangents (MikkTSpace)"
+                        ),
+                    ));
+                }
+            }
         }
         for (j, light) in self.lights.iter().enumerate() {
             light.validate().map_err(|e| RasterError::arg("lights", format!("light {j}: {e}")))?;
@@ -175,6 +217,15 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// What a material's textures are used for, for messages ("kd, roughness, normal map").
+fn texture_uses(t: &MaterialTextures) -> String {
+    let mut v: Vec<&str> = t.bound_names();
+    if t.has_normal_map() {
+        v.push("normal map");
+    }
+    if v.is_empty() { "occlusion or emission maps".into() } else { v.join(", ") }
 }
 
 /// The canonical benchmark scene: `icosphere(level)` at the origin

@@ -131,6 +131,25 @@ impl Distribution {
         Distribution::AshikhminShirley { nu: clamp_exponent(nu), nv: clamp_exponent(nv) }
     }
 
+    /// The isotropic distribution of the same family with roughness `alpha`, exactly what
+    /// [`Distribution::from_roughness`] gives for this family's name (GGX, Beckmann, Gaussian,
+    /// Blinn–Phong; `alpha` floored at [`ALPHA_MIN`]); `None` for the anisotropic families and an
+    /// `alpha` that is not finite and ≥ 0.
+    #[inline]
+    pub fn with_roughness(&self, alpha: f32) -> Option<Self> {
+        if !(alpha.is_finite() && alpha >= 0.0) {
+            return None;
+        }
+        let a = alpha.max(ALPHA_MIN);
+        match self {
+            Self::Ggx { .. } => Some(Self::ggx(a)),
+            Self::Beckmann { .. } => Some(Self::beckmann(a)),
+            Self::Gaussian(_) => Some(Self::gaussian(a)),
+            Self::BlinnPhong { .. } => Some(Self::blinn_phong(blinn_phong::exponent_from_alpha(a))),
+            _ => None,
+        }
+    }
+
     /// Build by name from a roughness, as `brdfpy.microfacet.distribution(name, h, n, alpha,
     /// alpha_y=…)` does: `alpha` (and `alpha_y`, bitangent direction, default `alpha`) is the RMS
     /// slope / roughness α > 0 of `beckmann`, `ggx`, `ward`, the RMS slope angle m \[rad\] of

@@ -54,6 +54,9 @@ pub struct CookTorrance {
     pub masking: Masking,
     /// Fresnel term, evaluated at `v·h`.
     pub fresnel: Fresnel,
+    /// A metal preset gave the Fresnel term ([`Bxdf::from_params`] with `metal`), so the `f0`
+    /// parameter does not drive it.
+    pub metal_preset: bool,
 }
 
 impl CookTorrance {
@@ -65,7 +68,7 @@ impl CookTorrance {
         masking: Masking,
         fresnel: Fresnel,
     ) -> Self {
-        Self { kd, ks, distribution: distribution.into(), masking, fresnel }
+        Self { kd, ks, distribution: distribution.into(), masking, fresnel, metal_preset: false }
     }
 
     /// The specular part `D G F/(4 (n·l)(n·v))` [1/sr] from the cosines and `l·v`; 0 unless both
@@ -252,7 +255,32 @@ impl Bxdf for CookTorrance {
             "color_shift" => Fresnel::color_shift(f0),
             other => return Err(BrdfError::param("fresnel", format!("unknown Fresnel term {other:?}"))),
         };
-        Ok(Self::new(p.color("kd"), p.color("ks"), distribution, masking, fresnel))
+        let mut m = Self::new(p.color("kd"), p.color("ks"), distribution, masking, fresnel);
+        m.metal_preset = metal.is_some();
+        Ok(m)
+    }
+
+    /// `kd` (slot 0), `ks` (1), `roughness` (3, with one lobe) and `f0` (6, with Schlick's Fresnel and
+    /// no metal preset) in place; the rest by a rebuild.
+    #[inline]
+    fn set_param(&mut self, slot: usize, value: &Value) -> bool {
+        match (slot, value) {
+            (0, Value::Color(c)) => self.kd = Vec3::from_array(*c),
+            (1, Value::Color(c)) => self.ks = Vec3::from_array(*c),
+            (3, Value::Scalar(alpha)) => {
+                let [(_, d)] = self.distribution.lobes() else { return false };
+                match d.with_roughness(*alpha) {
+                    Some(d) => self.distribution = Mixture::single(d),
+                    None => return false,
+                }
+            }
+            (6, Value::Color(c)) => match &mut self.fresnel {
+                Fresnel::Schlick { f0 } if !self.metal_preset => *f0 = Vec3::from_array(*c),
+                _ => return false,
+            },
+            _ => return false,
+        }
+        true
     }
 
     #[cfg_attr(debug_assertions, inline)]

@@ -5,7 +5,7 @@ use glam::Vec3;
 
 use crate::BrdfError;
 use crate::models::{Bxdf, ModelKind};
-use crate::params::{ModelSpec, ParamSpec, Params};
+use crate::params::{ModelSpec, ParamSpec, Params, Value};
 use crate::simd::{Lane, LaneGeometry, V3};
 
 /// Ideal diffuse reflector: `f_r = kd/π` [1/sr]; its directional albedo is exactly `kd`.
@@ -48,6 +48,17 @@ impl Bxdf for Lambert {
 
     fn from_params(p: &Params) -> Result<Self, BrdfError> {
         Ok(Self::new(p.color("kd")))
+    }
+
+    #[inline]
+    fn set_param(&mut self, slot: usize, value: &Value) -> bool {
+        match (slot, value) {
+            (0, Value::Color(c)) => {
+                self.kd = Vec3::from_array(*c);
+                true
+            }
+            _ => false,
+        }
     }
 
     #[cfg_attr(debug_assertions, inline)]

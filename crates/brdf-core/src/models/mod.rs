@@ -22,7 +22,7 @@
 
 use glam::Vec3;
 
-use crate::params::{Input, ModelSpec, Params};
+use crate::params::{Input, ModelSpec, Params, Value};
 use crate::simd::{Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry};
 
@@ -97,6 +97,17 @@ pub trait Bxdf: Sized + Send + Sync {
             name: "model",
             problem: format!("{} has no importance sampler", Self::SPEC.name),
         })
+    }
+
+    /// Set the parameter in slot `slot` of [`Bxdf::SPEC`]`.params` to `value` (validated against that
+    /// spec) in place, with every term the model derives from it recomputed, so that the model equals
+    /// [`Bxdf::from_params`] of its parameters with that value; `false` when this model cannot and
+    /// must be rebuilt by `from_params` (the default, for every parameter). A renderer that reads
+    /// parameters from textures changes them at every pixel: a model overrides this for the
+    /// parameters that are cheap to change (Cook–Torrance's `kd`, `ks`, `roughness`, `f0`).
+    #[inline]
+    fn set_param(&mut self, _slot: usize, _value: &Value) -> bool {
+        false
     }
 
     /// The BRDF value `f_r(l, v)` per RGB channel [1/sr], without the cosine: [`Bxdf::f_lanes`] with
@@ -445,6 +456,59 @@ mod tests {
             crate::params::Value::Bool(b) => Input::Bool(*b),
             crate::params::Value::Array(a) => Input::Numbers(a.iter().map(|&x| f64::from(x)).collect()),
         }
+    }
+
+    /// What [`Bxdf::set_param`] gives, against a rebuild from the parameters.
+    struct SetParamAgrees<'a> {
+        params: &'a Params,
+        slot: usize,
+        value: Value,
+    }
+    impl ModelVisitor for SetParamAgrees<'_> {
+        type Output = Option<bool>;
+        fn visit<M: Bxdf>(self, m: &M) -> Option<bool> {
+            let mut changed = M::from_params(self.params).ok()?;
+            let _ = m;
+            if !changed.set_param(self.slot, &self.value) {
+                return None;
+            }
+            let mut p = self.params.clone();
+            p.set_at(self.slot, self.value.clone());
+            let rebuilt = M::from_params(&p).ok()?;
+            let g =
+                Geometry::new(Vec3::new(0.3, 0.2, 1.0), Vec3::new(-0.4, 0.1, 1.0), Vec3::Z, None).unwrap();
+            Some(changed.f(&g) == rebuilt.f(&g))
+        }
+    }
+
+    #[test]
+    fn set_param_gives_the_model_a_rebuild_with_that_value_gives() {
+        let mut checked = 0;
+        for s in MODEL_SPECS {
+            for metal in ["none", "au"] {
+                let inputs: Vec<(String, Input)> = if s.name == "cook_torrance" {
+                    vec![("metal".into(), Input::Text(metal.into()))]
+                } else {
+                    vec![]
+                };
+                let params = Params::resolve(s, &inputs).unwrap();
+                let m = Model::build(s.name, &inputs).unwrap();
+                for (slot, p) in s.params.iter().enumerate() {
+                    let value = match p.kind {
+                        crate::params::ParamKind::Scalar => Value::Scalar(0.5 * (p.min + p.max.min(1.0))),
+                        crate::params::ParamKind::Color => {
+                            Value::Color([0.3, 0.6, 0.9].map(|x| p.min + x * (p.max.min(1.0) - p.min)))
+                        }
+                        _ => continue,
+                    };
+                    if let Some(same) = m.visit(SetParamAgrees { params: &params, slot, value }) {
+                        assert!(same, "{}.{} (metal {metal})", s.name, p.name);
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked >= 5, "{checked}");
     }
 
     #[test]

@@ -45,14 +45,18 @@ impl RasterMesh {
     }
 
     /// Validate and build: `vertices` float32 (V, 3), `faces` uint32 (F, 3), `normals` float32 (V, 3)
-    /// or `None` (angle-weighted vertex normals), `colors` float32 (V, 3) linear RGB or `None`.
+    /// or `None` (angle-weighted vertex normals), `colors` float32 (V, 3) linear RGB or `None`, `uvs`
+    /// float32 (V, 2) texture coordinates (glTF's: `(0, 0)` the top-left of the image, `v` down) or
+    /// `None`, `tangents` float32 (V, 4) `(t, w)` (glTF's TANGENT) or `None`.
     #[new]
-    #[pyo3(signature = (vertices, faces, normals=None, colors=None))]
+    #[pyo3(signature = (vertices, faces, normals=None, colors=None, uvs=None, tangents=None))]
     fn new(
         vertices: PyReadonlyArray2<'_, f32>,
         faces: PyReadonlyArray2<'_, u32>,
         normals: Option<PyReadonlyArray2<'_, f32>>,
         colors: Option<PyReadonlyArray2<'_, f32>>,
+        uvs: Option<PyReadonlyArray2<'_, f32>>,
+        tangents: Option<PyReadonlyArray2<'_, f32>>,
     ) -> PyResult<Self> {
         let positions = rows3("vertices", &vertices)?;
         if positions.is_empty() {
@@ -94,6 +98,68 @@ impl RasterMesh {
             }
             mesh = mesh.with_colors(c).map_err(raster_err)?;
         }
+        let rows = |name: &str, a: &PyReadonlyArray2<'_, f32>, width: usize| -> PyResult<Vec<f32>> {
+            let shape = a.shape();
+            if shape[1] != width {
+                return Err(invalid(format!(
+                    "{name}: expected shape (V, {width}), got ({}, {})",
+                    shape[0], shape[1]
+                )));
+            }
+            if shape[0] != nv {
+                return Err(invalid(format!("{name}: {} rows for {nv} vertices", shape[0])));
+            }
+            let s = a
+                .as_slice()
+                .map_err(|_| PyTypeError::new_err(format!("{name}: expected a C-contiguous array")))?;
+            Ok(s.to_vec())
+        };
+        if let Some(u) = uvs {
+            let u = rows("uvs", &u, 2)?;
+            mesh = mesh
+                .with_uvs(u.chunks_exact(2).map(glam::Vec2::from_slice).collect())
+                .map_err(|e| invalid(format!("uvs: {e}")))?;
+        }
+        if let Some(t) = tangents {
+            let t = rows("tangents", &t, 4)?;
+            mesh = mesh
+                .with_tangents(t.chunks_exact(4).map(glam::Vec4::from_slice).collect())
+                .map_err(|e| invalid(format!("tangents: {e}")))?;
+        }
+        Ok(Self::wrap(mesh))
+    }
+
+    /// Texture coordinates, float32 (V, 2), or `None` (a copy).
+    #[getter]
+    fn uvs<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f32>>>> {
+        self.inner
+            .uvs
+            .as_deref()
+            .map(|u| {
+                PyArray1::from_slice(py, bytemuck::cast_slice::<glam::Vec2, f32>(u)).reshape([u.len(), 2])
+            })
+            .transpose()
+    }
+
+    /// Tangents `(t, w)`, float32 (V, 4), or `None` (a copy).
+    #[getter]
+    fn tangents<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f32>>>> {
+        self.inner
+            .tangents
+            .as_deref()
+            .map(|t| {
+                PyArray1::from_slice(py, bytemuck::cast_slice::<glam::Vec4, f32>(t)).reshape([t.len(), 4])
+            })
+            .transpose()
+    }
+
+    /// A copy with MikkTSpace tangents (`brdf_raster::texture::tangents`), unless it has tangents.
+    fn with_generated_tangents(&self, py: Python<'_>) -> PyResult<Self> {
+        if self.inner.tangents.is_some() {
+            return Ok(Self { inner: Arc::clone(&self.inner) });
+        }
+        let mesh = (*self.inner).clone();
+        let mesh = py.detach(|| mesh.with_generated_tangents()).map_err(raster_err)?;
         Ok(Self::wrap(mesh))
     }
 

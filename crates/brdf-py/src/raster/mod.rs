@@ -16,6 +16,7 @@ mod environment;
 mod lights;
 mod mesh;
 mod render;
+mod texture;
 
 use glam::{Mat4, Vec3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
@@ -35,6 +36,7 @@ pub use mesh::{
     plane, polygon_normal, torus,
 };
 pub use render::{RasterFrame, occlusion_cache_info, raster_limits, render_scene};
+pub use texture::RasterTexture;
 
 /// A raster error as a Python exception: a file that cannot be parsed, an invalid mesh or argument →
 /// `BrdfError` (a `ValueError`) with the core's message, which names the argument or the file.

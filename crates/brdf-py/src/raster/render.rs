@@ -16,6 +16,7 @@ use glam::Vec3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
+use super::texture::{InstanceTextureArgs, material_textures};
 use super::{
     RasterAreaLight, RasterCamera, RasterEnvironment, RasterLight, RasterMesh, color3, mat4_from_rows,
     raster_err,
@@ -236,12 +237,14 @@ fn check_size(name: &'static str, v: i64) -> PyResult<u32> {
 /// called (with the GIL, from worker threads, one call at a time, increasing fractions) as bands of
 /// rows finish; an exception it raises is re-raised after the render. `vertex_obscurance`: one entry
 /// per instance, its mesh's stored per-vertex `w` (float32 `(V,)`) or `None`; with `ao` on, instances
-/// that have one use it instead of an estimate (`SceneOcclusion::with_stored`).
+/// that have one use it instead of an estimate (`SceneOcclusion::with_stored`). `textures`: one entry
+/// per instance, `None` or its texture bindings (`texture::InstanceTextureArgs`: bound parameters,
+/// normal, occlusion and emission maps), the model being the one at the textures' means.
 #[pyfunction]
 #[pyo3(signature = (instances, lights, ambient_light, background, camera, width, height, shading="phong",
     cull_back_faces=true, samples=1, tonemap="clamp", exposure=0.0, white=None, ao=None, shadows=false,
     progress=None, vertex_obscurance=None, outputs=None, environment=None, env_mode="fast", env_samples=64,
-    env_seed=0, area_lights=None, area_samples=16, area_seed=0))]
+    env_seed=0, area_lights=None, area_samples=16, area_seed=0, textures=None))]
 pub fn render_scene(
     py: Python<'_>,
     instances: Vec<InstanceArgs<'_>>,
@@ -269,6 +272,7 @@ pub fn render_scene(
     area_lights: Option<Vec<PyRef<'_, RasterAreaLight>>>,
     area_samples: i64,
     area_seed: u64,
+    textures: Option<Vec<Option<InstanceTextureArgs<'_>>>>,
 ) -> PyResult<RasterFrame> {
     let width = check_size("width", width)?;
     let height = check_size("height", height)?;
@@ -317,8 +321,12 @@ pub fn render_scene(
         let (_, ka) = py
             .detach(|| pool.install(|| resolve_ambient(core, ambient, ambient_light)))
             .map_err(raster_err)?;
-        let material =
+        let mut material =
             Material::new(core.clone()).with_ambient(ka).with_emission(color3("emission", *emission)?);
+        if let Some(Some(t)) = textures.as_ref().and_then(|t| t.get(k)) {
+            let mt = material_textures(model.core_params(), t)?;
+            material = material.with_textures(mt).map_err(raster_err)?;
+        }
         if !(glam::Mat3::from_mat4(m).determinant().abs() > 0.0) {
             return Err(invalid(format!("transform: instance {k} has a singular transform")));
         }

@@ -71,6 +71,27 @@ impl BaryPlanes {
         let v = (self.v[0] + dc * self.v[1] + dr * self.v[2]) * inv;
         Vec3::new((1.0 - u - v) as f32, u as f32, v as f32)
     }
+
+    /// [`BaryPlanes::at`] and the barycentrics' change per sample column and per sample row, the exact
+    /// derivatives of the perspective-correct `b = (1 − u − v, u, v)`: `∂(U/D)/∂c = (U_c − u·D_c)/D`
+    /// (and `V`, rows alike). Any attribute `a = Σ b_i a_i` then changes by `Σ (∂b_i/∂c) a_i` per
+    /// column — the screen-space derivatives of texture coordinates that pick a mip level (OpenGL 4.6
+    /// §8.14.1). Zero derivatives where [`BaryPlanes::at`] falls back to the centroid.
+    #[inline(always)]
+    pub(super) fn at_with_derivatives(&self, c: i32, r: i32) -> (Vec3, Vec3, Vec3) {
+        let (dc, dr) = (f64::from(c - self.c0), f64::from(r - self.r0));
+        let d = self.d[0] + dc * self.d[1] + dr * self.d[2];
+        if d == 0.0 || !d.is_finite() {
+            return (Vec3::splat(1.0 / 3.0), Vec3::ZERO, Vec3::ZERO);
+        }
+        let inv = 1.0 / d;
+        let u = (self.u[0] + dc * self.u[1] + dr * self.u[2]) * inv;
+        let v = (self.v[0] + dc * self.v[1] + dr * self.v[2]) * inv;
+        let du = [(self.u[1] - u * self.d[1]) * inv, (self.u[2] - u * self.d[2]) * inv];
+        let dv = [(self.v[1] - v * self.d[1]) * inv, (self.v[2] - v * self.d[2]) * inv];
+        let db = |k: usize| Vec3::new((-du[k] - dv[k]) as f32, du[k] as f32, dv[k] as f32);
+        (Vec3::new((1.0 - u - v) as f32, u as f32, v as f32), db(0), db(1))
+    }
 }
 
 /// The view ray of every sample: origin and direction affine in the sample's NDC `(x_n, y_n)` (the

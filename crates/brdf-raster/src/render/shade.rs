@@ -27,6 +27,8 @@ use crate::shading::{ShadingMode, face_normal, linear_normal, quadratic_normal};
 use crate::shadows::geometric_incident;
 use crate::tiles::{Chunk, LOCAL_BITS, NO_TRI};
 
+mod textured;
+
 /// Terms with no emission and no ambient part: what one light alone contributes.
 const NO_TERMS: Terms = Terms { emission: Vec3::ZERO, ambient: Vec3::ZERO, ambient_light: Vec3::ZERO };
 
@@ -394,6 +396,9 @@ impl<O: Occlusion> ShadeChunk<'_, O> {
     #[inline(always)]
     fn run<M: Bxdf, F: Lane>(mut self, m: &M) {
         let prep = self.prep;
+        if prep.instances[self.k].textured {
+            return self.run_textured(m);
+        }
         let data = &prep.instances[self.k];
         let mesh = &prep.scene.instances[self.k].mesh;
         let colors = mesh.colors.as_deref();

@@ -46,6 +46,10 @@ pub(super) struct InstanceData {
     pub(super) face_base: u32,
     pub(super) mirrored: bool,
     pub(super) terms: Terms,
+    /// The material has textures (the scene checked that a mesh whose material reads them has texture
+    /// coordinates): shaded per sample by
+    /// `ShadeChunk::run_textured`, whatever the shading mode.
+    pub(super) textured: bool,
 }
 
 /// Everything the bands need: transformed vertices, binned triangles, per-vertex colours.
@@ -106,6 +110,7 @@ impl<'a> Prepared<'a> {
                 vertex_base,
                 face_base,
                 mirrored: inst.mirrors(),
+                textured: inst.material.textures.is_some(),
                 terms: Terms {
                     emission: inst.material.emission,
                     ambient: inst.material.ambient,
