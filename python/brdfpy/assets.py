@@ -34,7 +34,8 @@ noted in :attr:`SceneAsset.notes`. A primitive without a material gets the speci
 material (white, metallic 1, roughness 1).
 
 **Textures** (base colour, metallic-roughness, normal, occlusion, emissive; MTL ``map_Kd``, ``map_Bump``,
-``norm``...) are read and kept, not applied, until ``brdfpy.Texture`` lands: each material's
+``norm``...) are read and kept, not yet applied to the scene's materials (:class:`brdfpy.Texture` renders
+textures on meshes built by hand; mapping the files' texture slots onto it is still to do): each material's
 :attr:`AssetMaterial.textures` holds them as :class:`TextureRef` (the encoded image bytes and MIME type,
 sampler wrap modes and filters, texture-coordinate set, slot, scale or strength, colour space), and the
 meshes' texture coordinates and tangents are in :attr:`AssetPart.uvs` and :attr:`AssetPart.tangents`. A
@@ -635,7 +636,8 @@ def load_scene(
     n_tex = len(asset.textures)
     if n_tex:
         warnings.warn(
-            f"{p}: {n_tex} textures not applied (brdfpy.Texture is not available yet); the materials' "
+            f"{p}: {n_tex} textures not applied (scene-file textures are not mapped onto brdfpy.Texture "
+            "yet); the materials' "
             "constant factors are rendered, the references are kept in scene.asset.materials[i].textures",
             TexturesNotAppliedWarning,
             stacklevel=2,
