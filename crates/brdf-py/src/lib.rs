@@ -35,7 +35,7 @@ mod _brdfpy {
     };
     #[pymodule_export]
     use super::measured::{
-        Tabulated, fit_model, sh_basis, sh_clamped_cosine_zonal, sh_max_order, sh_project, sh_quadrature,
+        RglBsdf, Tabulated, fit_model, read_samples_csv_bytes, sh_basis, sh_clamped_cosine_zonal, sh_max_order, sh_project, sh_quadrature,
         sh_reconstruct, table_samples,
     };
     #[pymodule_export]
