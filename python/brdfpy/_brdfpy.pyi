@@ -407,6 +407,7 @@ class Tabulated:
     def _eval(self, l: _F32, v: _F32, n: _F32) -> _F32: ...
 
 def read_samples_csv_bytes(data: bytes, angles: str) -> tuple[_F32, _F32, _F32]: ...
+
 @final
 class RglBsdf:
     @staticmethod

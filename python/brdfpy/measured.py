@@ -1,9 +1,9 @@
 """Measured BRDFs (Matusik, Pfister, Brand & McMillan 2003, "A Data-Driven Reflectance Model").
 
-A tabulated isotropic BRDF with interpolated look-up; the file formats of measured materials — MERL ``.binary``,
-RGL ``.bsdf`` (Dupuy & Jakob 2018, evaluated as Mitsuba 3 does: :class:`RglBsdf`) and CSV rows of scattered
-gonioreflectometer measurements (:meth:`Tabulated.from_samples`, :meth:`Tabulated.from_csv`); and fitting an
-analytic model's parameters to samples.
+A tabulated isotropic BRDF with interpolated look-up; the file formats of measured materials — MERL
+``.binary``, RGL ``.bsdf`` (Dupuy & Jakob 2018, evaluated as Mitsuba 3 does: :class:`RglBsdf`) and CSV
+rows of scattered gonioreflectometer measurements (:meth:`Tabulated.from_samples`,
+:meth:`Tabulated.from_csv`); and fitting an analytic model's parameters to samples.
 
 The table lives on Rusinkiewicz's half/difference angles ``(θ_h, θ_d, φ_d)`` in the layout of the MERL
 database (Matusik et al. 2003): ``θ_h`` nodes at ``(i / n)² · π/2``, ``θ_d`` at ``j / n · π/2``, ``φ_d`` at
@@ -29,8 +29,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
-from brdfpy._brdfpy import BrdfError
 from brdfpy._arrays import _as_numeric, as_int, as_vectors
+from brdfpy._brdfpy import BrdfError
 from brdfpy._paths import as_path
 from brdfpy.image import Image
 from brdfpy.models import Model, ParamValue
@@ -188,7 +188,7 @@ class Tabulated:
         row of column names, blank lines and ``#`` comments are skipped. Errors name the file, the line and
         the column (e.g. a polar angle of 90° or more: a direction on or below the horizon)."""
         if not isinstance(angles, str):
-            raise TypeError(f"angles: expected \"degrees\" or \"radians\", got {type(angles).__name__}")
+            raise TypeError(f'angles: expected "degrees" or "radians", got {type(angles).__name__}')
         p, data = _read(path)
         try:
             l, v, f = _brdfpy.read_samples_csv_bytes(data, angles)
@@ -361,8 +361,8 @@ class RglBsdf:
     def eval(
         self, l: ArrayLike, v: ArrayLike, n: ArrayLike = (0.0, 0.0, 1.0), tangent: ArrayLike | None = None
     ) -> NDArray[np.float32]:
-        """``f_r(l, v)`` [1/sr] per RGB channel; 0 unless ``n·l > 0`` and ``n·v > 0``. ``(..., 3)`` inputs that
-        broadcast; ``tangent`` orients an anisotropic material (default: a tangent chosen from ``n``)."""
+        """``f_r(l, v)`` [1/sr] per RGB channel; 0 unless ``n·l > 0`` and ``n·v > 0``. ``(..., 3)`` inputs
+        that broadcast; ``tangent`` orients an anisotropic material (default: a tangent chosen from ``n``)."""
         t = None if tangent is None else as_vectors("tangent", tangent)
         return self._inner._eval(as_vectors("l", l), as_vectors("v", v), as_vectors("n", n), t)
 
