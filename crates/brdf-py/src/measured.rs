@@ -7,7 +7,9 @@ use std::sync::Arc;
 use brdf_core::batch::{Batch, Directions, Quantity, evaluate_bxdf};
 use brdf_core::fit::{self, FitOptions, Jacobian, Loss, Sample, Strategy, TableSampling};
 use brdf_core::measured::samples::read_samples_csv;
-use brdf_core::measured::{AngleUnit, Coverage, Measured, RglBsdf as CoreRgl, SampleOptions, Tabulated as CoreTabulated};
+use brdf_core::measured::{
+    AngleUnit, Coverage, Measured, RglBsdf as CoreRgl, SampleOptions, Tabulated as CoreTabulated,
+};
 use brdf_core::sh;
 use glam::{DVec3, Vec3};
 use numpy::{
@@ -108,7 +110,9 @@ impl Tabulated {
         let rows = b.map(|s: (Vec3, Vec3, Vec3, Vec3)| s).to_vec().map_err(to_py)?;
         let samples: Vec<Sample> = rows.into_iter().map(|(l, v, n, f)| Sample { l, v, n, f }).collect();
         let options = SampleOptions { resolution, mirror, min_weight };
-        let work = samples.len().saturating_add(resolution.0.saturating_mul(resolution.1).saturating_mul(resolution.2));
+        let work = samples
+            .len()
+            .saturating_add(resolution.0.saturating_mul(resolution.1).saturating_mul(resolution.2));
         let (t, cov) = run(py, work, || CoreTabulated::from_samples(&samples, &options))?.map_err(to_py)?;
         Ok((Self::wrap(t), coverage_dict(py, &cov)?))
     }
@@ -164,7 +168,11 @@ fn coverage_dict<'py>(py: Python<'py>, c: &Coverage) -> PyResult<Bound<'py, PyDi
 /// (`brdf_core::measured::samples::read_samples_csv`): `(l, v, values)`, float32 `(count, 3)` each,
 /// normal +z. `angles` is `"degrees"` or `"radians"`.
 #[pyfunction]
-pub fn read_samples_csv_bytes<'py>(py: Python<'py>, data: &[u8], angles: &str) -> PyResult<SampleColumns<'py>> {
+pub fn read_samples_csv_bytes<'py>(
+    py: Python<'py>,
+    data: &[u8],
+    angles: &str,
+) -> PyResult<SampleColumns<'py>> {
     let unit = AngleUnit::from_name(angles).map_err(to_py)?;
     let s = run(py, data.len(), || read_samples_csv(data, unit))?.map_err(to_py)?;
     let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
@@ -272,8 +280,12 @@ impl RglBsdf {
             "pdf" => true,
             _ => return Err(invalid(format!("quantity: expected \"brdf\" or \"pdf\", got {quantity:?}"))),
         };
-        let args = (vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, crate::arrays::vec3_opt("tangent", &tangent)?);
-        for (name, a) in [("l", &args.0), ("v", &args.1), ("n", &args.2)].into_iter().chain(args.3.as_ref().map(|t| ("tangent", t))) {
+        let args =
+            (vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, crate::arrays::vec3_opt("tangent", &tangent)?);
+        for (name, a) in [("l", &args.0), ("v", &args.1), ("n", &args.2)]
+            .into_iter()
+            .chain(args.3.as_ref().map(|t| ("tangent", t)))
+        {
             let flat: &[f32] = bytemuck::cast_slice(a.data());
             if let Some(i) = flat.iter().position(|x| !x.is_finite()) {
                 return Err(invalid(format!("{name}: non-finite value in row {}", i / 3)));

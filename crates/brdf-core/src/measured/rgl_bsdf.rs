@@ -106,7 +106,9 @@ impl Warp {
                 }
                 if normalize {
                     if !(acc > 0.0) {
-                        return Err(bad(format!("{what}: slice {s} integrates to 0, it cannot be a density")));
+                        return Err(bad(format!(
+                            "{what}: slice {s} integrates to 0, it cannot be a density"
+                        )));
                     }
                     norm = 1.0 / acc;
                     let n32 = norm as f32;
@@ -276,7 +278,12 @@ impl RglBsdf {
                 return Err(bad(format!("{name}[{i}] is not finite")));
             }
             if let Some(i) = a.windows(2).position(|p| !(p[1] > p[0])) {
-                return Err(bad(format!("{name} must be strictly ascending: {name}[{}] = {} after {}", i + 1, a[i + 1], a[i])));
+                return Err(bad(format!(
+                    "{name} must be strictly ascending: {name}[{}] = {} after {}",
+                    i + 1,
+                    a[i + 1],
+                    a[i]
+                )));
             }
         }
         if parts.theta_i.iter().any(|&t| !(0.0..=FRAC_PI_2 + 1e-4).contains(&t)) {
@@ -350,7 +357,8 @@ impl RglBsdf {
         let tf = TensorFile::read(bytes)?;
         if tf.has_field("wavelengths") || tf.has_field("spectra") {
             return Err(bad(
-                "this is a spectral .bsdf file; only the RGB version (field \"rgb\") is supported".to_string(),
+                "this is a spectral .bsdf file; only the RGB version (field \"rgb\") is supported"
+                    .to_string(),
             ));
         }
         let desc = tf.field("description")?;

@@ -212,16 +212,16 @@ impl TensorFile {
                 return Err(bad(format!("field {name:?} has rank {rank}, more than {MAX_RANK}")));
             }
             let code = c.take(1, &format!("the dtype of field {name:?}"))?[0];
-            let dtype =
-                DType::from_code(code).ok_or_else(|| bad(format!("field {name:?} has unknown dtype {code}")))?;
+            let dtype = DType::from_code(code)
+                .ok_or_else(|| bad(format!("field {name:?} has unknown dtype {code}")))?;
             let offset = c.u64(&format!("the offset of field {name:?}"))?;
             let mut shape = Vec::with_capacity(rank);
             let mut size = dtype.size() as u64;
             for a in 0..rank {
                 let s = c.u64(&format!("the shape of field {name:?}"))?;
-                size = size.checked_mul(s).ok_or_else(|| {
-                    bad(format!("field {name:?}: the shape overflows (axis {a} is {s})"))
-                })?;
+                size = size
+                    .checked_mul(s)
+                    .ok_or_else(|| bad(format!("field {name:?}: the shape overflows (axis {a} is {s})")))?;
                 shape.push(s as usize);
             }
             let end = offset.checked_add(size).filter(|&e| e <= bytes.len() as u64).ok_or_else(|| {
