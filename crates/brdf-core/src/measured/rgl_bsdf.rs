@@ -148,10 +148,10 @@ impl Warp {
         for corner in 0..(1usize << d) {
             let mut w = 1.0;
             let mut s = *slice;
-            for k in 0..d {
+            for (k, (wk, &stride)) in ws.iter().zip(&self.strides).enumerate() {
                 let bit = (corner >> k) & 1;
-                w *= ws[k][bit];
-                s += bit * self.strides[k];
+                w *= wk[bit];
+                s += bit * stride;
             }
             if w != 0.0 {
                 acc += w * arr[s * size + index];
