@@ -1,7 +1,9 @@
 """Measured BRDFs (Matusik, Pfister, Brand & McMillan 2003, "A Data-Driven Reflectance Model").
 
-A tabulated isotropic BRDF with interpolated look-up, the MERL ``.binary`` format, and fitting an analytic
-model's parameters to samples.
+A tabulated isotropic BRDF with interpolated look-up; the file formats of measured materials — MERL
+``.binary``, RGL ``.bsdf`` (Dupuy & Jakob 2018, evaluated as Mitsuba 3 does: :class:`RglBsdf`) and CSV
+rows of scattered gonioreflectometer measurements (:meth:`Tabulated.from_samples`,
+:meth:`Tabulated.from_csv`); and fitting an analytic model's parameters to samples.
 
 The table lives on Rusinkiewicz's half/difference angles ``(θ_h, θ_d, φ_d)`` in the layout of the MERL
 database (Matusik et al. 2003): ``θ_h`` nodes at ``(i / n)² · π/2``, ``θ_d`` at ``j / n · π/2``, ``φ_d`` at
@@ -28,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
 from brdfpy._arrays import _as_numeric, as_int, as_vectors
+from brdfpy._brdfpy import BrdfError
 from brdfpy._paths import as_path
 from brdfpy.image import Image
 from brdfpy.models import Model, ParamValue
@@ -42,8 +45,10 @@ __all__ = [
     "STRATEGIES",
     "ChannelError",
     "Comparison",
+    "Coverage",
     "FitReport",
     "FitResult",
+    "RglBsdf",
     "Tabulated",
     "compare",
     "fit",
@@ -51,6 +56,51 @@ __all__ = [
 
 #: ``(n_theta_h, n_theta_d, n_phi_d)`` of the files of the MERL BRDF database.
 MERL_RESOLUTION = (90, 90, 180)
+
+
+def _resolution(name: str, resolution: object) -> tuple[int, int, int]:
+    if not isinstance(resolution, (tuple, list, np.ndarray)):
+        raise TypeError(f"{name}: expected 3 integers, got {type(resolution).__name__}")
+    if len(resolution) != 3:
+        raise ValueError(f"{name}: expected 3 integers (θh, θd, φd), got {len(resolution)}")
+    return (
+        as_int(f"{name}[0]", resolution[0], 0, 2**32),
+        as_int(f"{name}[1]", resolution[1], 0, 2**32),
+        as_int(f"{name}[2]", resolution[2], 0, 2**32),
+    )
+
+
+def _read(path: str | os.PathLike[str]) -> tuple[str, bytes]:
+    p = as_path("path", path)
+    with open(p, "rb") as f:
+        return p, f.read()
+
+
+def _bytes(name: str, data: object) -> bytes:
+    if not isinstance(data, (bytes, bytearray, memoryview)):
+        # bytes(-1) would say "negative count", bytes(10**12) would try to allocate a terabyte.
+        raise TypeError(f"{name}: expected bytes, got {type(data).__name__}")
+    return bytes(data)
+
+
+@dataclass(frozen=True)
+class Coverage:
+    """How :meth:`Tabulated.from_samples` covered its table (``brdf_core::measured::Coverage``)."""
+
+    #: Samples splatted.
+    samples: int
+    #: Nodes of the table.
+    nodes: int
+    #: Nodes with the light or the viewer below the surface (they hold 0).
+    below_horizon: int
+    #: Nodes estimated from samples (kernel weight at least ``min_weight``).
+    covered: int
+    #: Nodes filled from their neighbours (no sample reached them).
+    filled: int
+    #: Largest fill distance in grid steps from the nearest covered node (0: nothing filled).
+    max_fill_distance: int
+    #: ``covered`` as a fraction of the nodes above the horizon.
+    fraction: float
 
 
 class Tabulated:
@@ -62,7 +112,7 @@ class Tabulated:
         ``f_r`` [1/sr] at the grid nodes (see the module docs), finite and ``>= 0``; every axis at least 2.
     """
 
-    __slots__ = ("_inner",)
+    __slots__ = ("_coverage", "_inner")
 
     def __init__(self, table: ArrayLike) -> None:
         a = np.asarray(table)
@@ -71,12 +121,82 @@ class Tabulated:
         with np.errstate(over="ignore", invalid="ignore"):
             a32 = np.require(a, np.float32, ["C", "A"])  # contiguous and aligned (e.g. a network buffer)
         self._inner = _brdfpy.Tabulated(a32)
+        self._coverage: Coverage | None = None
 
     @classmethod
-    def _wrap(cls, inner: _brdfpy.Tabulated) -> Tabulated:
+    def _wrap(cls, inner: _brdfpy.Tabulated, coverage: Coverage | None = None) -> Tabulated:
         t = cls.__new__(cls)
         t._inner = inner
+        t._coverage = coverage
         return t
+
+    @property
+    def coverage(self) -> Coverage | None:
+        """How the samples covered the table, for a table made by :meth:`from_samples` or :meth:`from_csv`
+        (``None`` for any other table, and after pickling)."""
+        return self._coverage
+
+    @classmethod
+    def from_samples(
+        cls,
+        l: ArrayLike,
+        v: ArrayLike,
+        values: ArrayLike,
+        n: ArrayLike | None = None,
+        *,
+        resolution: tuple[int, int, int] = (32, 32, 64),
+        mirror: bool = True,
+        min_weight: float = 1e-3,
+    ) -> Tabulated:
+        """A table from scattered measurements: ``values`` (``f_r`` [1/sr], RGB) at light directions ``l`` and
+        view directions ``v`` about normals ``n`` (default ``+z``); ``(..., 3)`` arrays that broadcast.
+
+        The interpolation (``brdf_core::measured::samples``): each sample is splatted onto the eight nodes
+        around it with the trilinear weights of the look-up (a tent kernel one cell wide, in the table's index
+        coordinates), and a node holds ``Σ w f / Σ w`` (Nadaraya–Watson kernel regression). Reciprocity is
+        built in (``l`` and ``v`` swapped land in the same cells); with ``mirror`` each sample is also used at
+        ``π − φ_d`` (the mirror symmetry of isotropic BRDFs). Nodes below the horizon hold 0; nodes no sample
+        reached (``Σ w < min_weight``) take the mean of their known neighbours, ring after ring from the
+        covered ones. :attr:`coverage` says how many nodes were covered and filled.
+
+        Raises :class:`brdfpy.BrdfError` naming the argument for directions below the horizon (``n·l <= 0`` or
+        ``n·v <= 0``), non-finite or zero vectors, non-finite or negative values.
+        """
+        r3 = _resolution("resolution", resolution)
+        if not isinstance(mirror, (bool, np.bool_)):
+            raise TypeError(f"mirror: expected a bool, got {type(mirror).__name__}")
+        mw = float(min_weight)
+        nn = as_vectors("n", (0.0, 0.0, 1.0) if n is None else n)
+        inner, cov = _brdfpy.Tabulated.from_samples(
+            as_vectors("l", l), as_vectors("v", v), nn, as_vectors("values", values), r3, bool(mirror), mw
+        )
+        return cls._wrap(inner, Coverage(**cov))
+
+    @classmethod
+    def from_csv(
+        cls,
+        path: str | os.PathLike[str],
+        *,
+        angles: str = "degrees",
+        resolution: tuple[int, int, int] = (32, 32, 64),
+        mirror: bool = True,
+        min_weight: float = 1e-3,
+    ) -> Tabulated:
+        """A table (:meth:`from_samples`) from a CSV file of gonioreflectometer rows
+        ``theta_i, phi_i, theta_o, phi_o, R, G, B``: light (incident) and viewer (outgoing) polar angles from
+        the normal and azimuths, in ``angles`` (``"degrees"`` or ``"radians"``), then ``f_r`` [1/sr]. A first
+        row of column names, blank lines and ``#`` comments are skipped. Errors name the file, the line and
+        the column (e.g. a polar angle of 90° or more: a direction on or below the horizon)."""
+        if not isinstance(angles, str):
+            raise TypeError(f'angles: expected "degrees" or "radians", got {type(angles).__name__}')
+        p, data = _read(path)
+        try:
+            l, v, f = _brdfpy.read_samples_csv_bytes(data, angles)
+        except BrdfError as e:
+            if str(e).startswith("angles:"):
+                raise
+            raise BrdfError(f"{p}: {e}") from None
+        return cls.from_samples(l, v, f, resolution=resolution, mirror=mirror, min_weight=min_weight)
 
     @classmethod
     def from_model(cls, model: Model, resolution: tuple[int, int, int] = MERL_RESOLUTION) -> Tabulated:
@@ -87,16 +207,7 @@ class Tabulated:
         """
         if not isinstance(model, _brdfpy.Model):
             raise TypeError(f"model: expected a brdfpy.Model, got {type(model).__name__}")
-        if not isinstance(resolution, (tuple, list, np.ndarray)):
-            raise TypeError(f"resolution: expected 3 integers, got {type(resolution).__name__}")
-        if len(resolution) != 3:
-            raise ValueError(f"resolution: expected 3 integers (θh, θd, φd), got {len(resolution)}")
-        r3 = (
-            as_int("resolution[0]", resolution[0], 0, 2**32),
-            as_int("resolution[1]", resolution[1], 0, 2**32),
-            as_int("resolution[2]", resolution[2], 0, 2**32),
-        )
-        return cls._wrap(_brdfpy.Tabulated.from_model(model, r3))
+        return cls._wrap(_brdfpy.Tabulated.from_model(model, _resolution("resolution", resolution)))
 
     def as_model(self) -> Model:
         """This table as a :class:`brdfpy.Model` named ``"measured"`` (no parameters, physical, isotropic):
@@ -153,6 +264,121 @@ class Tabulated:
     def __reduce__(self) -> tuple[Any, ...]:
         # By its float32 values (the constructor keeps them bit for bit).
         return (Tabulated, (self.table,))
+
+    def __repr__(self) -> str:
+        return repr(self._inner)
+
+
+class RglBsdf:
+    """A material of the RGL database (``.bsdf``, RGB version; Dupuy & Jakob 2018, "An Adaptive
+    Parameterization for Efficient Material Acquisition and Rendering"), evaluated as Mitsuba 3's ``measured``
+    plugin evaluates it: the inverse of the visible-normal warp, bilinear interpolation of the values on the
+    sample grid, linear interpolation between the measured incident directions, the Jacobian term when the
+    file asks for it. :meth:`eval` returns ``f_r`` [1/sr] (Mitsuba's value, ``f_r · cos θ_o``, divided by
+    ``n·l``), with ``v`` as Mitsuba's incident direction ``wi``. Isotropic and anisotropic files (the latter
+    with their 2- or 4-fold symmetry); spectral files are refused. Details: ``brdf_core::measured::rgl_bsdf``.
+    """
+
+    __slots__ = ("_inner",)
+
+    def __init__(self, inner: _brdfpy.RglBsdf) -> None:
+        if not isinstance(inner, _brdfpy.RglBsdf):
+            raise TypeError("use RglBsdf.load(path), RglBsdf.from_bytes(data) or RglBsdf.from_model(model)")
+        self._inner = inner
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> RglBsdf:
+        """Read a ``.bsdf`` file; errors name the file and the field (truncated data, wrong magic, shapes that
+        do not match, NaN or negative densities)."""
+        p, data = _read(path)
+        try:
+            return cls(_brdfpy.RglBsdf.from_bytes(data))
+        except BrdfError as e:
+            raise BrdfError(f"{p}: {e}") from None
+
+    @classmethod
+    def from_bytes(cls, data: bytes) -> RglBsdf:
+        """Parse the bytes of a ``.bsdf`` file (see :meth:`load`)."""
+        return cls(_brdfpy.RglBsdf.from_bytes(_bytes("data", data)))
+
+    @classmethod
+    def from_model(
+        cls, model: Model, *, n_theta_i: int = 16, n_phi_i: int = 16, grid: tuple[int, int] = (64, 64)
+    ) -> RglBsdf:
+        """A ``.bsdf`` of a registry model with identity warps (uniform VNDF, luminance, NDF and σ, no
+        Jacobian): the values ``f_r · cos θ_o`` on a ``grid = (h, w)`` over ``(u_φm, u_θm)`` for ``n_theta_i``
+        incident polar angles (``(t/(n−1))² · 88°``) and, for an anisotropic model, ``n_phi_i`` azimuths over
+        ``[−π, π]``. Mitsuba reads it; it is not Dupuy & Jakob's adaptive parameterisation (that needs the
+        model's VNDF), so it needs a finer grid for the same accuracy."""
+        if not isinstance(model, _brdfpy.Model):
+            raise TypeError(f"model: expected a brdfpy.Model, got {type(model).__name__}")
+        if not isinstance(grid, (tuple, list)) or len(grid) != 2:
+            raise TypeError("grid: expected 2 integers (h, w)")
+        g = (as_int("grid[0]", grid[0], 0, 2**32), as_int("grid[1]", grid[1], 0, 2**32))
+        nt = as_int("n_theta_i", n_theta_i, 0, 2**32)
+        npi = as_int("n_phi_i", n_phi_i, 0, 2**32)
+        return cls(_brdfpy.RglBsdf.from_model(model, nt, npi, g))
+
+    def to_bytes(self) -> bytes:
+        """The ``.bsdf`` file (a Mitsuba tensor file, fields aligned to 8 bytes)."""
+        return self._inner.to_bytes()
+
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Write the ``.bsdf`` file."""
+        with open(as_path("path", path), "wb") as f:
+            f.write(self._inner.to_bytes())
+
+    @property
+    def description(self) -> str:
+        """The material's name (the file's ``description`` field)."""
+        return self._inner.description
+
+    @property
+    def isotropic(self) -> bool:
+        """Whether the file is isotropic (``phi_i`` has at most two entries)."""
+        return self._inner.isotropic
+
+    @property
+    def jacobian(self) -> bool:
+        """Whether the values are multiplied by ``ndf(u_m) / (4 σ(u_i))``."""
+        return self._inner.jacobian
+
+    @property
+    def theta_i(self) -> NDArray[np.float32]:
+        """The measured incident polar angles [radians]."""
+        return self._inner.theta_i
+
+    @property
+    def phi_i(self) -> NDArray[np.float32]:
+        """The measured incident azimuths [radians]."""
+        return self._inner.phi_i
+
+    @property
+    def shape(self) -> tuple[int, int, int, int, int]:
+        """The shape of the ``rgb`` field, ``(n_phi_i, n_theta_i, 3, h, w)``."""
+        return self._inner.rgb_shape
+
+    def eval(
+        self, l: ArrayLike, v: ArrayLike, n: ArrayLike = (0.0, 0.0, 1.0), tangent: ArrayLike | None = None
+    ) -> NDArray[np.float32]:
+        """``f_r(l, v)`` [1/sr] per RGB channel; 0 unless ``n·l > 0`` and ``n·v > 0``. ``(..., 3)`` inputs
+        that broadcast; ``tangent`` orients an anisotropic material (default: a tangent chosen from ``n``)."""
+        t = None if tangent is None else as_vectors("tangent", tangent)
+        return self._inner._eval(as_vectors("l", l), as_vectors("v", v), as_vectors("n", n), t)
+
+    def pdf(
+        self, l: ArrayLike, v: ArrayLike, n: ArrayLike = (0.0, 0.0, 1.0), tangent: ArrayLike | None = None
+    ) -> NDArray[np.float32]:
+        """The density [1/sr] with which Mitsuba's ``measured`` plugin samples ``l`` given ``v``, shape of the
+        broadcast inputs."""
+        t = None if tangent is None else as_vectors("tangent", tangent)
+        out = self._inner._eval(as_vectors("l", l), as_vectors("v", v), as_vectors("n", n), t, "pdf")
+        return np.ascontiguousarray(out[..., 0])
+
+    def to_tabulated(self, resolution: tuple[int, int, int] = (90, 90, 180)) -> Tabulated:
+        """Resample an isotropic material onto a half/difference :class:`Tabulated` table (:meth:`eval` at the
+        nodes); anisotropic materials are refused."""
+        return Tabulated._wrap(self._inner.to_tabulated(_resolution("resolution", resolution)))
 
     def __repr__(self) -> str:
         return repr(self._inner)

@@ -6,7 +6,10 @@ use std::sync::Arc;
 
 use brdf_core::batch::{Batch, Directions, Quantity, evaluate_bxdf};
 use brdf_core::fit::{self, FitOptions, Jacobian, Loss, Sample, Strategy, TableSampling};
-use brdf_core::measured::{Measured, Tabulated as CoreTabulated};
+use brdf_core::measured::samples::read_samples_csv;
+use brdf_core::measured::{
+    AngleUnit, Coverage, Measured, RglBsdf as CoreRgl, SampleOptions, Tabulated as CoreTabulated,
+};
 use brdf_core::sh;
 use glam::{DVec3, Vec3};
 use numpy::{
@@ -88,6 +91,32 @@ impl Tabulated {
         Ok(PyBytes::new(py, &out))
     }
 
+    /// A table from scattered samples (`brdf_core::measured::Tabulated::from_samples`): float32 `(..., 3)`
+    /// arrays that broadcast; returns the table and its coverage as a dict.
+    #[staticmethod]
+    #[pyo3(signature = (l, v, n, values, resolution, mirror, min_weight))]
+    fn from_samples<'py>(
+        py: Python<'py>,
+        l: PyReadonlyArrayDyn<'py, f32>,
+        v: PyReadonlyArrayDyn<'py, f32>,
+        n: PyReadonlyArrayDyn<'py, f32>,
+        values: PyReadonlyArrayDyn<'py, f32>,
+        resolution: (usize, usize, usize),
+        mirror: bool,
+        min_weight: f32,
+    ) -> PyResult<(Self, Bound<'py, PyDict>)> {
+        let b = Batch::new((vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3("values", &values)?))
+            .map_err(to_py)?;
+        let rows = b.map(|s: (Vec3, Vec3, Vec3, Vec3)| s).to_vec().map_err(to_py)?;
+        let samples: Vec<Sample> = rows.into_iter().map(|(l, v, n, f)| Sample { l, v, n, f }).collect();
+        let options = SampleOptions { resolution, mirror, min_weight };
+        let work = samples
+            .len()
+            .saturating_add(resolution.0.saturating_mul(resolution.1).saturating_mul(resolution.2));
+        let (t, cov) = run(py, work, || CoreTabulated::from_samples(&samples, &options))?.map_err(to_py)?;
+        Ok((Self::wrap(t), coverage_dict(py, &cov)?))
+    }
+
     /// `(n_theta_h, n_theta_d, n_phi_d)`.
     #[getter]
     fn shape(&self) -> (usize, usize, usize) {
@@ -119,6 +148,170 @@ impl Tabulated {
     fn __repr__(&self) -> String {
         let (a, b, c) = self.inner.0.dims();
         format!("brdfpy.measured.Tabulated(shape=({a}, {b}, {c}))")
+    }
+}
+
+/// A [`Coverage`] as a dict of its fields.
+fn coverage_dict<'py>(py: Python<'py>, c: &Coverage) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("samples", c.samples)?;
+    d.set_item("nodes", c.nodes)?;
+    d.set_item("below_horizon", c.below_horizon)?;
+    d.set_item("covered", c.covered)?;
+    d.set_item("filled", c.filled)?;
+    d.set_item("max_fill_distance", c.max_fill_distance)?;
+    d.set_item("fraction", c.fraction())?;
+    Ok(d)
+}
+
+/// The rows of a CSV of `theta_i, phi_i, theta_o, phi_o, R, G, B`
+/// (`brdf_core::measured::samples::read_samples_csv`): `(l, v, values)`, float32 `(count, 3)` each,
+/// normal +z. `angles` is `"degrees"` or `"radians"`.
+#[pyfunction]
+pub fn read_samples_csv_bytes<'py>(
+    py: Python<'py>,
+    data: &[u8],
+    angles: &str,
+) -> PyResult<SampleColumns<'py>> {
+    let unit = AngleUnit::from_name(angles).map_err(to_py)?;
+    let s = run(py, data.len(), || read_samples_csv(data, unit))?.map_err(to_py)?;
+    let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let flat: Vec<f32> = s.iter().flat_map(|x| f(x).to_array()).collect();
+        PyArray1::from_vec(py, flat).reshape([s.len(), 3])
+    };
+    Ok((col(|x| x.l)?, col(|x| x.v)?, col(|x| x.f)?))
+}
+
+/// An RGL `.bsdf` material (Dupuy & Jakob 2018) evaluated as Mitsuba 3's `measured` plugin does
+/// (`brdf_core::measured::RglBsdf`).
+#[pyclass(frozen, module = "brdfpy._brdfpy")]
+pub struct RglBsdf {
+    inner: Arc<CoreRgl>,
+}
+
+#[pymethods]
+impl RglBsdf {
+    /// Parse the bytes of a `.bsdf` file.
+    #[staticmethod]
+    fn from_bytes(py: Python<'_>, data: &[u8]) -> PyResult<Self> {
+        let inner = run(py, data.len(), || CoreRgl::read(data))?.map_err(to_py)?;
+        Ok(Self { inner: Arc::new(inner) })
+    }
+
+    /// A file of `model` with identity warps (`RglBsdf::from_model`).
+    #[staticmethod]
+    fn from_model(
+        py: Python<'_>,
+        model: PyRef<'_, Model>,
+        n_theta_i: usize,
+        n_phi_i: usize,
+        grid: (usize, usize),
+    ) -> PyResult<Self> {
+        let m = model.core().clone();
+        let work = n_theta_i.saturating_mul(n_phi_i.max(1)).saturating_mul(grid.0).saturating_mul(grid.1);
+        let inner = run(py, work, || CoreRgl::from_model(&m, n_theta_i, n_phi_i, grid))?.map_err(to_py)?;
+        Ok(Self { inner: Arc::new(inner) })
+    }
+
+    /// The `.bsdf` file's bytes.
+    fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, &self.inner.write())
+    }
+
+    /// Resample an isotropic material onto a half/difference table.
+    fn to_tabulated(&self, py: Python<'_>, resolution: (usize, usize, usize)) -> PyResult<Tabulated> {
+        let r = self.inner.clone();
+        let work = resolution.0.saturating_mul(resolution.1).saturating_mul(resolution.2);
+        let t = run(py, work, || r.to_tabulated(resolution))?.map_err(to_py)?;
+        Ok(Tabulated::wrap(t))
+    }
+
+    /// The material's name.
+    #[getter]
+    fn description(&self) -> String {
+        self.inner.parts().description.clone()
+    }
+
+    /// Whether `phi_i` has at most two entries.
+    #[getter]
+    fn isotropic(&self) -> bool {
+        self.inner.is_isotropic()
+    }
+
+    /// Whether the values are multiplied by `ndf / (4 sigma)`.
+    #[getter]
+    fn jacobian(&self) -> bool {
+        self.inner.parts().jacobian
+    }
+
+    /// The incident polar angles [radians].
+    #[getter]
+    fn theta_i<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
+        PyArray1::from_slice(py, &self.inner.parts().theta_i)
+    }
+
+    /// The incident azimuths [radians].
+    #[getter]
+    fn phi_i<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
+        PyArray1::from_slice(py, &self.inner.parts().phi_i)
+    }
+
+    /// The shape of the `rgb` field: `(n_phi_i, n_theta_i, 3, h, w)`.
+    #[getter]
+    fn rgb_shape(&self) -> (usize, usize, usize, usize, usize) {
+        let p = self.inner.parts();
+        (p.phi_i.len(), p.theta_i.len(), 3, p.rgb.0.0, p.rgb.0.1)
+    }
+
+    /// Batch evaluation: `f_r` [1/sr] (`quantity="brdf"`) or Mitsuba's sampling density [1/sr]
+    /// (`"pdf"`, in the first of the three channels) for float32 `(..., 3)` arrays that broadcast.
+    #[pyo3(signature = (l, v, n, tangent=None, quantity="brdf"))]
+    fn _eval<'py>(
+        &self,
+        py: Python<'py>,
+        l: PyReadonlyArrayDyn<'py, f32>,
+        v: PyReadonlyArrayDyn<'py, f32>,
+        n: PyReadonlyArrayDyn<'py, f32>,
+        tangent: Option<PyReadonlyArrayDyn<'py, f32>>,
+        quantity: &str,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let pdf = match quantity {
+            "brdf" => false,
+            "pdf" => true,
+            _ => return Err(invalid(format!("quantity: expected \"brdf\" or \"pdf\", got {quantity:?}"))),
+        };
+        let args =
+            (vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, crate::arrays::vec3_opt("tangent", &tangent)?);
+        for (name, a) in [("l", &args.0), ("v", &args.1), ("n", &args.2)]
+            .into_iter()
+            .chain(args.3.as_ref().map(|t| ("tangent", t)))
+        {
+            let flat: &[f32] = bytemuck::cast_slice(a.data());
+            if let Some(i) = flat.iter().position(|x| !x.is_finite()) {
+                return Err(invalid(format!("{name}: non-finite value in row {}", i / 3)));
+            }
+        }
+        let dirs = Directions::from_args(args.0, args.1, args.2, args.3).map_err(to_py)?;
+        let r = self.inner.clone();
+        outputs::<Vec3>(py, dirs.shape(), move |out| {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = match dirs.geometry(i) {
+                    Some(g) if pdf => Vec3::new(r.pdf(&g), 0.0, 0.0),
+                    Some(g) => r.eval(&g),
+                    None => Vec3::ZERO,
+                };
+            }
+            Ok(())
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        let (np, nt, _, h, w) = self.rgb_shape();
+        format!(
+            "brdfpy.measured.RglBsdf({:?}, {}, phi_i x theta_i = {np} x {nt}, grid {h} x {w})",
+            self.inner.parts().description,
+            if self.inner.is_isotropic() { "isotropic" } else { "anisotropic" }
+        )
     }
 }
 
