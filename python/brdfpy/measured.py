@@ -283,7 +283,9 @@ class RglBsdf:
 
     def __init__(self, inner: _brdfpy.RglBsdf) -> None:
         if not isinstance(inner, _brdfpy.RglBsdf):
-            raise TypeError("use RglBsdf.load(path), RglBsdf.from_bytes(data) or RglBsdf.from_model(model)")
+            raise TypeError(
+                "inner: use RglBsdf.load(path), RglBsdf.from_bytes(data) or RglBsdf.from_model(model)"
+            )
         self._inner = inner
 
     @classmethod
@@ -299,7 +301,11 @@ class RglBsdf:
     @classmethod
     def from_bytes(cls, data: bytes) -> RglBsdf:
         """Parse the bytes of a ``.bsdf`` file (see :meth:`load`)."""
-        return cls(_brdfpy.RglBsdf.from_bytes(_bytes("data", data)))
+        try:
+            return cls(_brdfpy.RglBsdf.from_bytes(_bytes("data", data)))
+        except _brdfpy.BrdfError as e:
+            # The reader names the element (e.g. "tensor file: wrong magic"); the argument is `data`.
+            raise _brdfpy.BrdfError(f"data: {e}") from None
 
     @classmethod
     def from_model(

@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from brdfpy import _brdfpy
+from brdfpy._arrays import _as_numeric, _to_f32
 
 __all__ = ["FILTERS", "WRAPS", "Texture", "TextureChannel"]
 
@@ -155,18 +156,10 @@ class Texture:
         """The filtered linear RGBA at texture coordinates ``uv`` (shape ``(N, 2)``), as the renderer reads
         it for a point whose coordinates change by ``duv_dx`` per screen column and ``duv_dy`` per row
         (``(N, 2)`` each, zero by default: the base level); float32 ``(N, 4)``."""
-        u = np.ascontiguousarray(np.asarray(uv, dtype=np.float32).reshape(-1, 2))
+        u = _uv_rows("uv", uv)
         zero = np.zeros_like(u)
-        dx = (
-            zero
-            if duv_dx is None
-            else np.ascontiguousarray(np.asarray(duv_dx, dtype=np.float32).reshape(-1, 2))
-        )
-        dy = (
-            zero
-            if duv_dy is None
-            else np.ascontiguousarray(np.asarray(duv_dy, dtype=np.float32).reshape(-1, 2))
-        )
+        dx = zero if duv_dx is None else _uv_rows("duv_dx", duv_dx)
+        dy = zero if duv_dy is None else _uv_rows("duv_dy", duv_dy)
         out: NDArray[np.float32] = self._t.sample(u, dx, dy)
         return out
 
@@ -183,6 +176,14 @@ class Texture:
 
     def __repr__(self) -> str:
         return str(self._t.__repr__())
+
+
+def _uv_rows(name: str, x: ArrayLike) -> NDArray[np.float32]:
+    """``x`` as contiguous float32 rows of two texture coordinates, refused naming ``name`` otherwise."""
+    a = _to_f32(name, _as_numeric(name, x))
+    if a.ndim == 0 or a.shape[-1] != 2:
+        raise ValueError(f"{name}: expected texture coordinates of shape (N, 2), got shape {a.shape}")
+    return np.ascontiguousarray(a.reshape(-1, 2))
 
 
 class TextureChannel:

@@ -67,6 +67,7 @@ DATA_CLASSES = {
     "Chi2Result",
     "AlbedoBySampling",
     "SceneAsset",
+    "Coverage",
 }
 
 
@@ -134,7 +135,36 @@ INSTANCES: dict[str, Callable[[random.Random], Any]] = {
     "Environment": lambda r: r.choice(
         [lambda: brdfpy.Environment.uniform(0.5), _sky, lambda: brdfpy.Environment(np.ones((2, 4, 3)))]
     )(),
+    "Texture": lambda r: _texture(r),
+    "TextureChannel": lambda r: _texture(r, 4).channel(r.randrange(4)),
+    "TexturedModel": lambda r: brdfpy.model(
+        "cook_torrance", kd=_texture(r), roughness=_texture(r, 3).channel(1)
+    ),
+    "RglBsdf": lambda r: _rgl(),
 }
+
+
+def _texture(r: random.Random, channels: int | None = None) -> Any:
+    shape = r.choice([(4, 4), (3, 5, 3), (2, 2, 4)]) if channels is None else (3, 5, channels)
+    return brdfpy.Texture(
+        np.random.default_rng(r.randrange(2**32)).random(shape, dtype=np.float32),
+        wrap=r.choice(["repeat", "clamp", "mirror"]),
+        filter=r.choice(["nearest", "bilinear", "trilinear"]),
+    )
+
+
+def _uv(r: random.Random, h: bool, scale: float = 2.0) -> Any:
+    a = (np.random.default_rng(r.randrange(2**32)).random((r.randint(1, 8), 2)) - 0.25) * scale
+    return (
+        a.astype(np.float32) if not h else r.choice([a[:, :1], np.full_like(a, np.nan), V.hostile_other(r)])
+    )
+
+
+@lru_cache(maxsize=1)
+def _rgl() -> Any:
+    return brdfpy.measured.RglBsdf.from_model(
+        brdfpy.model("cook_torrance"), n_theta_i=3, n_phi_i=2, grid=(4, 4)
+    )
 
 
 @lru_cache(maxsize=1)
@@ -658,6 +688,38 @@ PARAMS: dict[str, V.Generator] = {
     "start": _mapping,
     "fixed": _opt(_mapping),
     "ambient_light": _channels(0.0, 1.0),
+    # textures (brdfpy.Texture) and texture coordinates
+    "uvs": _opt(lambda r, h: _uv(r, h)),
+    "tangents": lambda r, h: None if not h else V.hostile_other(r),
+    "uv": lambda r, h: _uv(r, h),
+    "duv_dx": _opt(lambda r, h: _uv(r, h, 0.01)),
+    "duv_dy": _opt(lambda r, h: _uv(r, h, 0.01)),
+    "data_or_path": lambda r, h: (
+        np.random.default_rng(r.randrange(2**32)).random(r.choice([(4, 4), (3, 5, 3)]), dtype=np.float32)
+        if not h
+        else r.choice(
+            [np.zeros((0, 4, 3)), np.full((2, 2), np.nan), V.path(r, h, (".png", "")), V.hostile_other(r)]
+        )
+    ),
+    "wrap": _names(lambda: ["repeat", "clamp", "mirror"]),
+    "filter": _names(lambda: ["nearest", "bilinear", "trilinear"]),
+    "colorspace": _opt(_names(lambda: ["srgb", "linear"])),
+    "texture": lambda r, h: INSTANCES["Texture"](r) if not h else V.hostile_other(r),
+    "index": _i(0, 3),
+    "normal_map": lambda r, h: None if not h else V.hostile_other(r),
+    "occlusion_map": lambda r, h: None if not h else V.hostile_other(r),
+    "normal_scale": _f(0.0, 2.0),
+    "occlusion_strength": _f(0.0, 1.0),
+    # measured: RGL .bsdf files and scattered samples
+    "inner": lambda r, h: _rgl()._inner if not h else V.hostile_other(r),
+    "n_theta_i": _i(1, 4),
+    "n_phi_i": _i(1, 4),
+    "grid": lambda r, h: (
+        (r.randint(2, 6), r.randint(2, 6)) if not h else r.choice([(0, 4), (1, 10**9), V.hostile_other(r)])
+    ),
+    "angles": _names(lambda: ["degrees", "radians"]),
+    "mirror": lambda r, h: V.bools(r, h),
+    "min_weight": _f(0.0, 1.0),
     "background": _channels(0.0, 1.0),
     # environment lighting
     "image": _env_image,
