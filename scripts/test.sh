@@ -4,7 +4,7 @@
 #   cargo fmt --check, cargo clippy -D warnings (whole workspace), cargo doc -D warnings (whole workspace:
 #   broken intra-doc links, e.g. a unit written [rad] instead of \[rad\]), cargo test (brdf-core, brdf-raster),
 #   ruff check, ruff format --check, mypy --strict (python/brdfpy), mypy.stubtest (the compiled module's
-#   stub), pytest (tests/), and the wheel: `maturin build --release` (abi3, checked against the manylinux
+#   stub), pytest (tests/), and the wheel: `maturin build` (abi3, checked against the manylinux
 #   policy by maturin's auditwheel), installed into a fresh venv with cargo and rustc off the PATH, where
 #   the tests of the compiled module run against that install (tests/test_packaging.py checks where
 #   brdfpy was imported from). The explorer's tests drive a real headless browser: on CI (CI=true) Debian's
@@ -36,10 +36,15 @@ step() {
     fi
 }
 
+# The cargo profile of the extension the tests import and of the wheel checked: dev-py (the release code
+# generation without link-time optimisation) builds in about half the time of release on two cores and
+# runs the same code; BRDFPY_PROFILE=release tests the exact build a release ships.
+PROFILE="${BRDFPY_PROFILE:-dev-py}"
+
 install() {
     "$PY" -m pip install -q 'maturin>=1.9,<2' &&
         # --no-build-isolation: build with the maturin just installed rather than fetching another copy.
-        "$PY" -m pip install -q --no-build-isolation -e '.[dev]'
+        MATURIN_PEP517_ARGS="--profile $PROFILE" "$PY" -m pip install -q --no-build-isolation -e '.[dev]'
 }
 
 browser() {
@@ -63,9 +68,9 @@ WHEEL_TESTS=(tests/test_packaging.py tests/test_bindings_smoke.py tests/test_err
 wheel() {
     local work dist venv whl clean_path d
     work="$(mktemp -d)" && dist="$work/dist" && venv="$work/venv" || return 1
-    # Release profile and target dir of the install step: cargo reuses what that build compiled.
-    "$PY" -m maturin build --release --locked ${WHEEL_POLICY:+--compatibility "$WHEEL_POLICY"} --out "$dist" ||
-        return 1
+    # Profile and target dir of the install step: cargo reuses what that build compiled.
+    "$PY" -m maturin build --profile "$PROFILE" --locked ${WHEEL_POLICY:+--compatibility "$WHEEL_POLICY"} \
+        --out "$dist" || return 1
     whl="$(ls "$dist"/brdfpy-*.whl)" && echo "built $(basename "$whl")" || return 1
     [[ "$whl" == *-abi3-"${WHEEL_POLICY:-manylinux}"_* ]] || { echo "not an abi3 manylinux wheel: $whl"; return 1; }
     "$PY" -m venv "$venv" || return 1
@@ -88,7 +93,7 @@ wheel() {
     return $status
 }
 
-step "install (maturin release build of the extension, test tools)" install
+step "install ($PROFILE build of the extension, test tools)" install
 step "headless browser for the explorer tests (Debian chromium, chromium-driver)" browser
 step "cargo fmt --check" cargo fmt --all --check
 step "cargo clippy -D warnings" cargo clippy --workspace --all-targets -- -D warnings
@@ -99,8 +104,8 @@ step "ruff format --check" "$PY" -m ruff format --check .
 step "mypy --strict" "$PY" -m mypy
 step "stubtest" "$PY" -m mypy.stubtest brdfpy._brdfpy --allowlist python/stubtest-allowlist.txt
 step "pytest" "$PY" -m pytest
-# The wheel step's `maturin build --release` reuses the install step's release build (same profile, target
-# dir and flags: measured, 0.1 s of cargo, about 40 s for the step with the clean venv and its tests).
+# The wheel step's `maturin build` reuses the install step's build (same profile, target dir and flags:
+# measured, 0.1 s of cargo, about 40 s for the step with the clean venv and its tests).
 # BRDFPY_WHEEL_CHECK=0 skips it.
 if [[ "${BRDFPY_WHEEL_CHECK:-1}" == "1" ]]; then
     step "wheel: maturin build, clean venv without cargo, tests against the install" wheel

@@ -426,7 +426,7 @@ def _png_1x1() -> bytes:
     return buf.getvalue()
 
 
-def test_texture_references_are_kept_and_reported(tmp_path: Path) -> None:
+def test_texture_references_are_kept_beside_the_applied_textures(tmp_path: Path) -> None:
     w = Writer()
     png = _png_1x1()
     view = w._view(png)
@@ -443,13 +443,231 @@ def test_texture_references_are_kept_and_reported(tmp_path: Path) -> None:
     )
     uv = np.zeros((5, 2), dtype=np.float32)
     root = w.node(mesh=w.mesh(WEDGE_V, WEDGE_F, material=mat, TEXCOORD_0=uv))
-    with pytest.warns(TexturesNotAppliedWarning, match="2 textures not applied"):
-        scene, _ = load_scene(w.save(tmp_path / "t.glb", [root]))
+    scene, _ = load_scene(w.save(tmp_path / "t.glb", [root]))  # every reference applied: no warning
     m = scene.asset.materials[0]  # type: ignore[attr-defined]
     base, normal = m.textures["baseColorTexture"], m.textures["normalTexture"]
     assert base.image.data == png and base.image.mime_type == "image/png" and base.color_space == "srgb"
     assert (base.wrap_s, base.wrap_t, base.mag_filter) == ("CLAMP_TO_EDGE", "MIRRORED_REPEAT", "NEAREST")
     assert normal.scale == 0.5 and normal.color_space == "linear" and normal.tex_coord == 0
+    inst = scene.asset.parts[0].instance  # type: ignore[attr-defined]
+    assert isinstance(inst.material, brdfpy.TexturedModel) and set(inst.material.textures) == {"kd", "f0"}
+    assert inst.normal_map is not None and inst.normal_scale == 0.5
+    assert inst.normal_map.wrap == ("clamp", "mirror") and inst.normal_map.filter == "nearest"
+
+
+# -- textures applied ----------------------------------------------------------------------------------------
+
+# A unit quad in the z = 0 plane facing +z, with glTF texture coordinates: (0, 0) at its top-left corner
+# (-1, 1), v growing downward.
+QUAD_V = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=np.float32)
+QUAD_F = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+QUAD_UV = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], dtype=np.float32)
+QUAD_N = np.tile(np.array([0, 0, 1], dtype=np.float32), (4, 1))
+QUAD_MESH_UV = brdfpy.Mesh(QUAD_V, QUAD_F, QUAD_N, uvs=QUAD_UV)
+# Looking down -z at the quad, which fills the frame: pixel row 0 is the quad's top edge.
+QUAD_CAM = brdfpy.Camera.orthographic(eye=(0, 0, 3), target=(0, 0, 0), up=(0, 1, 0), height=2.0)
+
+
+def _png(rgba: np.ndarray) -> bytes:
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    a = np.asarray(rgba, dtype=np.uint8)
+    Image.fromarray(a, {2: "L", 3: {3: "RGB", 4: "RGBA"}.get(a.shape[-1], "L")}[a.ndim]).save(buf, "PNG")
+    return buf.getvalue()
+
+
+def _srgb_decode(c8: Any) -> np.ndarray:
+    """IEC 61966-2-1's sRGB decoding of 8-bit values."""
+    c = np.asarray(c8, dtype=np.float64) / 255
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _quad_scene(
+    tmp_path: Path,
+    name: str,
+    images: dict[str, np.ndarray] | None = None,
+    texcoord: int = 0,
+    **material: Any,
+) -> brdfpy.Scene:
+    """The quad with a material whose textures are `images` (slot -> 8-bit array; NEAREST sampling),
+    lit by one directional light."""
+    w = Writer()
+    textures: dict[str, Any] = {}
+    w.g.samplers = [pygltflib.Sampler(magFilter=pygltflib.NEAREST, minFilter=pygltflib.NEAREST)]
+    for slot, img in (images or {}).items():
+        w.g.images.append(pygltflib.Image(bufferView=w._view(_png(img)), mimeType="image/png"))
+        w.g.textures.append(pygltflib.Texture(source=len(w.g.images) - 1, sampler=0))
+        textures[slot] = len(w.g.textures) - 1
+    pbr = pygltflib.PbrMetallicRoughness(
+        baseColorFactor=material.pop("base", [1, 1, 1, 1]),
+        metallicFactor=material.pop("metallic", 0.0),
+        roughnessFactor=material.pop("roughness", 1.0),
+    )
+    if "base" in textures:
+        pbr.baseColorTexture = pygltflib.TextureInfo(index=textures["base"], texCoord=texcoord)
+    if "mr" in textures:
+        pbr.metallicRoughnessTexture = pygltflib.TextureInfo(index=textures["mr"])
+    if "emissive" in textures:
+        material["emissiveTexture"] = pygltflib.TextureInfo(index=textures["emissive"])
+    if "occlusion" in textures:
+        material["occlusionTexture"] = pygltflib.OcclusionTextureInfo(
+            index=textures["occlusion"], strength=material.pop("strength", 1.0)
+        )
+    mat = w.material(pbrMetallicRoughness=pbr, **material)
+    mesh = w.mesh(QUAD_V, QUAD_F, material=mat, NORMAL=QUAD_N, TEXCOORD_0=QUAD_UV, TEXCOORD_1=QUAD_UV)
+    scene, _ = load_scene(w.save(tmp_path / f"{name}.glb", [w.node(mesh=mesh)]), lights="none")
+    scene.add_light(brdfpy.DirectionalLight((0.3, -0.2, -1.0), intensity=2.0))
+    return scene
+
+
+def test_gltf_base_color_texture_reads_from_the_top_left_and_decodes_srgb(tmp_path: Path) -> None:
+    # 2x2 texels: top row (188, 0, 0) and green, bottom row blue and white; 188 is sRGB-decoded to 0.503.
+    img = np.array([[[188, 0, 0, 255], [0, 255, 0, 255]], [[0, 0, 255, 255], [255, 255, 255, 255]]])
+    textured = _render(_quad_scene(tmp_path, "tex", {"base": img}), QUAD_CAM, 64)
+    for (row, col), texel in zip([(16, 16), (16, 48), (48, 16), (48, 48)], img.reshape(4, 4)):
+        factor = [*_srgb_decode(texel[:3]), 1.0]
+        plain = _render(_quad_scene(tmp_path, f"c{row}{col}", base=factor), QUAD_CAM, 64)
+        np.testing.assert_allclose(textured[row, col], plain[row, col], rtol=1e-5, atol=1e-7)
+        assert plain[row, col].max() > 0.05  # lit
+
+
+def test_gltf_metallic_roughness_texture_packs_roughness_in_g_and_metalness_in_b(tmp_path: Path) -> None:
+    base = [0.9, 0.6, 0.3, 1.0]
+    mr = np.array([[[7, 100, 200]]])  # R unused, G roughness, B metalness (linear)
+    textured_scene = _quad_scene(tmp_path, "mr", {"mr": mr}, base=base, metallic=0.8, roughness=0.9)
+    inst = textured_scene.instances[0]
+    assert {"kd", "f0", "roughness"} <= set(inst.material.textures)
+    plain_scene = _quad_scene(
+        tmp_path, "mr_plain", base=base, metallic=0.8 * 200 / 255, roughness=0.9 * 100 / 255
+    )
+    a, b = _render(textured_scene, QUAD_CAM, 32), _render(plain_scene, QUAD_CAM, 32)
+    np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-7)
+    # Swapping G and B changes the image: the channels are not interchangeable.
+    swapped_scene = _quad_scene(
+        tmp_path, "mr_sw", {"mr": mr[..., [0, 2, 1]]}, base=base, metallic=0.8, roughness=0.9
+    )
+    swapped = _render(swapped_scene, QUAD_CAM, 32)
+    assert np.abs(swapped - a).max() > 1e-3
+
+
+def test_gltf_emissive_texture_times_its_factor_and_occlusion_with_its_strength(tmp_path: Path) -> None:
+    emissive = np.array([[[255, 128, 0]]])
+    scene = _quad_scene(tmp_path, "em", {"emissive": emissive}, base=[0, 0, 0, 1], emissiveFactor=[0.5, 1, 1])
+    scene.lights.clear()
+    hdr = _render(scene, QUAD_CAM, 16)
+    np.testing.assert_allclose(hdr[8, 8], [0.5, _srgb_decode(128), 0.0], rtol=1e-5, atol=1e-7)
+
+    def ambient_only(name: str, images: dict[str, np.ndarray] | None, **kw: Any) -> np.ndarray:
+        s = _quad_scene(tmp_path, name, images, base=[0.5, 0.5, 0.5, 1], **kw)
+        s.lights.clear()
+        s.ambient_light = 1.0
+        return _render(s, QUAD_CAM, 16)
+
+    occ = np.array([[[64, 0, 0]]])  # R = 64/255, linear
+    ratio = ambient_only("occ", {"occlusion": occ}, strength=0.5) / ambient_only("no_occ", None)
+    np.testing.assert_allclose(ratio[8, 8], 1 + 0.5 * (64 / 255 - 1), rtol=1e-5)
+
+
+def test_gltf_mask_cuts_out_texels_below_the_cutoff_and_shows_what_is_behind(tmp_path: Path) -> None:
+    # 2x2 texels: alpha 0 in the left column, 200 in the right; factor alpha 0.8 -> 0 and 0.63.
+    img = np.array([[[255, 0, 0, 0], [255, 0, 0, 200]], [[255, 0, 0, 0], [255, 0, 0, 200]]])
+    scene = _quad_scene(
+        tmp_path, "mask", {"base": img}, base=[1, 1, 1, 0.8], alphaMode="MASK", alphaCutoff=0.6
+    )
+    inst = scene.instances[0]
+    assert inst.alpha_mask is not None and inst.alpha_cutoff == pytest.approx(0.6)
+    behind = brdfpy.Mesh(QUAD_V - np.float32([0, 0, 1]), QUAD_F, QUAD_N)
+    scene.add(behind, brdfpy.model("lambert", kd=(0, 0, 0.8)))
+    img_ = scene.render(QUAD_CAM, 32, 32, outputs=("hdr", "triangle_id"))
+    left, right = img_.hdr[:, :14], img_.hdr[:, 18:]
+    assert (left[..., 2] > 0).all() and (left[..., 0] == 0).all()  # the blue quad behind shows through
+    assert (right[..., 0] > 20 * right[..., 2]).all()  # the red texels pass (blue: only the white highlight)
+    # Raising the cutoff above 0.63 cuts the right column too.
+    inst.alpha_cutoff = 0.7
+    assert (scene.render(QUAD_CAM, 32, 32, outputs=("hdr",)).hdr[:, 18:, 0] == 0).all()
+    with pytest.raises(TypeError, match=r"alpha_mask: expected tex\.channel"):
+        scene.add(QUAD_MESH_UV, "lambert", alpha_mask=brdfpy.Texture(np.ones((2, 2))))
+
+
+def test_textures_that_cannot_be_applied_warn_and_say_why(tmp_path: Path) -> None:
+    img = np.full((1, 1, 3), 200)
+    with pytest.warns(TexturesNotAppliedWarning, match="TEXCOORD_1"):
+        scene = _quad_scene(tmp_path, "tc1", {"base": img}, texcoord=1)
+    assert any("TEXCOORD_1" in n for n in scene.asset.notes)  # type: ignore[attr-defined]
+    w = Writer()
+    w.g.images = [pygltflib.Image(bufferView=w._view(_png(img)), mimeType="image/png")]
+    w.g.textures = [pygltflib.Texture(source=0)]
+    mat = w.material(
+        pbrMetallicRoughness=pygltflib.PbrMetallicRoughness(baseColorTexture=pygltflib.TextureInfo(index=0))
+    )
+    path = w.save(tmp_path / "nouv.glb", [w.node(mesh=w.mesh(WEDGE_V, WEDGE_F, material=mat))])
+    with pytest.warns(TexturesNotAppliedWarning, match="no texture coordinates"):
+        load_scene(path)
+
+
+def test_mtl_maps_multiply_their_constants_and_a_bump_map_becomes_a_normal_map(tmp_path: Path) -> None:
+    from PIL import Image
+
+    Image.fromarray(np.full((2, 2), 128, np.uint8), "L").save(tmp_path / "grey.png")
+    ramp = np.round(np.tile(np.arange(8) / 7, (8, 1)) * 255).astype(np.uint8)
+    Image.fromarray(ramp, "L").save(tmp_path / "height.png")
+    (tmp_path / "m.mtl").write_text(
+        "newmtl t\nKd 0.5 0.25 1\nKs 0.2 0.2 0.2\nNs 50\nmap_Kd grey.png\nmap_Bump -bm 2 height.png\n"
+    )
+    (tmp_path / "q.obj").write_text(
+        "mtllib m.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "vn 0 0 1\nusemtl t\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n"
+    )
+    scene, _ = load_scene(tmp_path / "q.obj")
+    inst = scene.instances[0]
+    kd = inst.material.textures["kd"]
+    np.testing.assert_allclose(kd.mean(), np.array([0.5, 0.25, 1]) * _srgb_decode(128), rtol=1e-6)
+    assert inst.normal_map is not None and inst.normal_map.channels == 3
+    # The ramp rises by 255/7 per texel (rounded to 8 bits): interior normals tilt toward -x by the
+    # central difference times -bm, and not at all in y.
+    n = inst.normal_map.levels()[0][4, 1:7] * 2 - 1
+    slope = 2 * (ramp[4, 2:8].astype(float) - ramp[4, 0:6]) / 2 / 255
+    expect = np.stack([-slope, np.zeros(6), np.ones(6)], -1)
+    expect /= np.linalg.norm(expect, axis=-1, keepdims=True)
+    np.testing.assert_allclose(n, expect, atol=2e-6)
+
+
+def test_height_to_normal_map_of_a_ramp_tilts_against_the_rise(tmp_path: Path) -> None:
+    from brdfpy.assets import height_to_normal_map
+
+    h = np.tile(np.linspace(0, 1, 16, dtype=np.float32)[:, None], (1, 16))  # rises down the image
+    nm = height_to_normal_map(brdfpy.Texture(h, wrap="clamp", filter="bilinear"), strength=3.0)
+    n = nm.levels()[0][5:10, 5:10] * 2 - 1
+    # Rising downward = falling toward +y (up the image): the normal tilts toward +y.
+    expect = np.array([0.0, 3.0 / 15, 1.0]) / np.linalg.norm([0.0, 3.0 / 15, 1.0])
+    np.testing.assert_allclose(n, np.broadcast_to(expect, n.shape), atol=2e-6)
+    assert nm.wrap == "clamp" and nm.filter == "bilinear"
+
+
+def test_texture_sources_and_encoded_images_refuse_bad_input() -> None:
+    t = brdfpy.Texture(np.full((2, 2, 3), 0.5, np.float32))
+    with pytest.raises(ValueError, match="texture: expected a finite factor"):
+        brdfpy.TextureSource.scaled(t, -1.0)
+    with pytest.raises(TypeError, match=r"texture: expected a brdfpy\.Texture"):
+        brdfpy.TextureSource.squared(0.5)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="base_color: expected a texture, a scaled texture or a constant"):
+        brdfpy.TextureSource.metallic_f0(brdfpy.TextureSource.squared(t), 0.5)
+    with pytest.raises(ValueError, match="metallic_roughness_texture: needs G"):
+        brdfpy.assets.metallic_roughness(
+            (1, 1, 1), 1, 1, metallic_roughness_texture=brdfpy.Texture(np.ones((2, 2)))
+        )
+    with pytest.raises(TypeError, match="data: expected the bytes"):
+        brdfpy.Texture.from_bytes("x.png")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="data: not an image"):
+        brdfpy.Texture.from_bytes(b"not a png")
+    with pytest.raises(TypeError, match="wrap: expected one of"):
+        brdfpy.Texture(np.ones((2, 2)), wrap=("repeat",))  # type: ignore[arg-type]
+    m = brdfpy.model("cook_torrance", roughness=brdfpy.TextureSource.squared(t.channel(1), 0.5))
+    assert m.params["roughness"] == pytest.approx(0.0625)  # the mean's square: (0.5 * 0.5)^2
+    assert "TextureSource.squared" in repr(m)
 
 
 # -- OBJ + MTL, STL -----------------------------------------------------------------------------------------
@@ -468,7 +686,8 @@ def test_obj_with_mtl_maps_its_materials(tmp_path: Path) -> None:
         "usemtl shiny\nf 1/1 2/2 3/3\nusemtl matte\nf 2/2 4/4 3/3\n"
         "usemtl pbr\nf 1/1 2/2 5/5\nusemtl nowhere\nf 1 3 5\n"
     )
-    with pytest.warns(TexturesNotAppliedWarning, match="3 textures not applied"):
+    # wood.png has -s (not applied), bump.png and n.png are missing: three references not applied.
+    with pytest.warns(TexturesNotAppliedWarning, match="3 texture reference"):
         scene, _ = load_scene(tmp_path / "a.obj")
     asset = scene.asset  # type: ignore[attr-defined]
     names = [p.name for p in asset.parts]

@@ -47,7 +47,7 @@ from brdfpy.mesh import (
 from brdfpy.models import Model, ModelInfo, ParamInfo, TexturedModel, model, model_info, models
 from brdfpy.raycast import Hits, RayCaster
 from brdfpy.scene import Instance, Scene
-from brdfpy.texture import Texture, TextureChannel
+from brdfpy.texture import Texture, TextureChannel, TextureSource
 
 __all__ = [
     "BUILTIN_MESHES",
@@ -74,6 +74,7 @@ __all__ = [
     "SpotLight",
     "Texture",
     "TextureChannel",
+    "TextureSource",
     "TexturedModel",
     "TexturesNotAppliedWarning",
     "__version__",

@@ -376,6 +376,7 @@ class RasterTexture:
         wrap: str = "repeat",
         filter: str = "trilinear",
         colorspace: str | None = None,
+        wrap_v: str | None = None,
     ) -> RasterTexture: ...
     @property
     def width(self) -> int: ...
@@ -386,6 +387,8 @@ class RasterTexture:
     @property
     def wrap(self) -> str: ...
     @property
+    def wrap_v(self) -> str: ...
+    @property
     def filter(self) -> str: ...
     @property
     def mean(self) -> list[float]: ...
@@ -393,13 +396,15 @@ class RasterTexture:
     def sample(self, uv: _F32, duv_dx: _F32, duv_dy: _F32) -> _F32: ...
 
 _TextureRead = tuple[RasterTexture, int | None]
+_SourceRead = tuple[RasterTexture | None, int | None, tuple[float, float, float]]
 _InstanceTextures = tuple[
-    Sequence[tuple[str, RasterTexture, int | None]],
+    Sequence[tuple[str, str, Sequence[_SourceRead]]],
     _TextureRead | None,
     float,
     _TextureRead | None,
     float,
     _TextureRead | None,
+    tuple[_SourceRead, float] | None,
 ]
 
 def occlusion_cache_info() -> tuple[int, int]: ...

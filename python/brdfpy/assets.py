@@ -28,18 +28,31 @@ Also mapped: ``emissiveFactor`` × ``KHR_materials_emissive_strength`` → the i
 specification also tints a metal's F0 by them); ``doubleSided`` → a second instance with the winding
 reversed (so both sides are lit, each with its own normal, under back-face culling; skipped for closed,
 outward meshes, whose back is never seen from outside); alpha mode ``OPAQUE``; ``MASK`` with the constant
-``baseColorFactor`` alpha (a primitive whose alpha is below ``alphaCutoff`` is not drawn; per-texel alpha
-needs the base-colour texture, see below); ``BLEND`` is rendered opaque (brdfpy has no transparency),
+``baseColorFactor`` alpha (a primitive whose alpha is below ``alphaCutoff`` is not drawn) and, with an RGBA
+base-colour texture, per texel: a sample whose ``alpha·factor`` is below the cutoff is not drawn
+(``Scene.add(..., alpha_mask=)``, tested in the coverage pass, so what is behind shows through; shadows still
+see the whole triangles); ``BLEND`` is rendered opaque (brdfpy has no transparency),
 noted in :attr:`SceneAsset.notes`. A primitive without a material gets the specification's default
 material (white, metallic 1, roughness 1).
 
-**Textures** (base colour, metallic-roughness, normal, occlusion, emissive; MTL ``map_Kd``, ``map_Bump``,
-``norm``...) are read and kept, not yet applied to the scene's materials (:class:`brdfpy.Texture` renders
-textures on meshes built by hand; mapping the files' texture slots onto it is still to do): each material's
-:attr:`AssetMaterial.textures` holds them as :class:`TextureRef` (the encoded image bytes and MIME type,
-sampler wrap modes and filters, texture-coordinate set, slot, scale or strength, colour space), and the
-meshes' texture coordinates and tangents are in :attr:`AssetPart.uvs` and :attr:`AssetPart.tangents`. A
-scene with texture references warns once (:class:`TexturesNotAppliedWarning`, "N textures not applied").
+**Textures** are decoded with Pillow (each image once) into :class:`brdfpy.Texture` with the file's sampler
+(``wrapS``/``wrapT``; nearest for a ``NEAREST`` magnification filter, else trilinear when minification
+uses mip-maps, else bilinear) and applied to the parts with texture coordinates (``TEXCOORD_0``): the
+``baseColorTexture`` (sRGB) and ``metallicRoughnessTexture`` (linear, G = roughness, B = metalness) enter
+Appendix B's mapping above per shaded point (:func:`metallic_roughness`: ``kd``, ``f0`` and ``roughness`` as
+:class:`brdfpy.texture.TextureSource` values, each factor multiplying its texel); ``normalTexture`` (linear,
+with its ``scale``) becomes the instance's normal map, with the file's tangents or MikkTSpace ones;
+``occlusionTexture`` (R, with its ``strength``) its occlusion map; ``emissiveTexture`` (sRGB) its emission
+map times ``emissiveFactor``. MTL maps multiply their constants, as the format says: ``map_Kd`` × ``Kd``
+(the ``kd`` of ``blinn_phong``, or the base colour of a ``Pr``/``Pm`` material), ``map_Ks`` × ``Ks``,
+``map_Ns`` × ``Ns`` (shininess, first channel), ``map_Ke`` × ``Ke``; ``norm`` is a tangent-space normal map;
+``map_Bump`` / ``bump`` is read as a height map (one channel or grey, turned into a normal map by
+:func:`height_to_normal_map` with ``-bm`` as the strength) or, when it is coloured, as the normal map many
+exporters write under that name. Not applied, each listed in :attr:`SceneAsset.notes` with one
+:class:`TexturesNotAppliedWarning` per load: a second texture-coordinate set, MTL ``-o``/``-s``,
+``map_Ka``, ``map_d``, images that cannot be read, and textures of a mesh without texture coordinates.
+The references as the file gives them stay in :attr:`AssetMaterial.textures`
+(:class:`TextureRef`: encoded image bytes and MIME type, sampler, slot, scale or strength, colour space).
 
 **Lights** (``KHR_lights_punctual``): brdfpy's lights already follow that extension's conventions (colour ×
 intensity, direction of travel along the node's −z, spot half-angles), and its renderer works in relative
@@ -86,6 +99,7 @@ glTF's mapping of baseColor 0.8, metallic 0, roughness 0.5).
 
 from __future__ import annotations
 
+import io
 import math
 import os
 import warnings
@@ -102,6 +116,7 @@ from brdfpy.lights import DirectionalLight, Light, PointLight, SpotLight
 from brdfpy.mesh import Mesh, load_mesh
 from brdfpy.models import Model, model
 from brdfpy.scene import Instance, Scene
+from brdfpy.texture import Texture, TextureSource, _image_array
 from brdfpy.transforms import up_to_y
 
 __all__ = [
@@ -114,6 +129,7 @@ __all__ = [
     "SceneAsset",
     "TextureRef",
     "TexturesNotAppliedWarning",
+    "height_to_normal_map",
     "load_scene",
     "metallic_roughness",
 ]
@@ -129,8 +145,8 @@ _SRGB_SLOTS = ("baseColorTexture", "emissiveTexture", "map_Kd", "map_Ks", "map_K
 
 
 class TexturesNotAppliedWarning(UserWarning):
-    """A scene's materials refer to textures, which are kept (:attr:`AssetMaterial.textures`) but not
-    applied yet: the render shows the materials' constant factors."""
+    """Some texture references of a scene's materials could not be applied (the reasons are in
+    :attr:`SceneAsset.notes`); those slots render with the materials' constant factors."""
 
 
 @dataclass(frozen=True)
@@ -272,10 +288,22 @@ class _AssetScene(Scene):
 
 
 def metallic_roughness(
-    base_color: ArrayLike, metallic: float, roughness: float
+    base_color: ArrayLike,
+    metallic: float,
+    roughness: float,
+    *,
+    base_color_texture: Texture | None = None,
+    metallic_roughness_texture: Texture | None = None,
 ) -> tuple[Model, dict[str, Any]]:
     """The ``cook_torrance`` model of a glTF metallic-roughness material (see the module documentation:
-    Appendix B with its diffuse not weighted by ``1 − F``), and its parameters."""
+    Appendix B with its diffuse not weighted by ``1 − F``), and its parameters.
+
+    ``base_color`` (RGB), ``metallic`` and ``roughness`` are glTF's factors; with ``base_color_texture``
+    (sRGB RGB or RGBA) the base colour is ``factor ∘ texel``, with ``metallic_roughness_texture`` (linear; G =
+    roughness, B = metalness) the metalness and roughness are the factors times its B and G. The model is
+    then a :class:`brdfpy.TexturedModel`: ``kd`` = ``(1 − metallic)·baseColor``, ``f0`` =
+    ``mix(0.04, baseColor, metallic)`` and ``roughness`` = ``(G·roughnessFactor)²`` per shaded point
+    (:class:`brdfpy.texture.TextureSource`)."""
     base = np.clip(np.asarray(base_color, dtype=np.float64).reshape(-1)[:3], 0.0, 1.0)
     m = float(np.clip(metallic, 0.0, 1.0))
     r = float(np.clip(roughness, 0.0, 1.0))
@@ -288,6 +316,22 @@ def metallic_roughness(
         "fresnel": "schlick",
         "f0": tuple(float(x) for x in 0.04 * (1.0 - m) + base * m),
     }
+    if base_color_texture is not None or metallic_roughness_texture is not None:
+        base_read: Any = tuple(float(x) for x in base)
+        metal_read: Any = m
+        if base_color_texture is not None:
+            base_read = TextureSource.scaled(base_color_texture, base_read)
+        mr = metallic_roughness_texture
+        if mr is not None:
+            if mr.channels < 3:
+                raise ValueError(
+                    f"metallic_roughness_texture: needs G (roughness) and B (metalness), got a "
+                    f"{mr.channels}-channel texture"
+                )
+            metal_read = TextureSource.scaled(mr.channel(2), m)
+            params["roughness"] = TextureSource.squared(mr.channel(1), r)
+        params["kd"] = TextureSource.metallic_diffuse(base_read, metal_read)
+        params["f0"] = TextureSource.metallic_f0(base_read, metal_read)
     return model("cook_torrance", **params), params
 
 
@@ -405,6 +449,154 @@ def _mime(name: str) -> str | None:
     return {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg"}.get(ext)
 
 
+# -- textures -------------------------------------------------------------------------------------------
+
+_WRAP_NAMES = {"REPEAT": "repeat", "CLAMP_TO_EDGE": "clamp", "MIRRORED_REPEAT": "mirror"}
+
+
+@dataclass
+class _Maps:
+    """A material's model with its textures applied, and the maps of its instances."""
+
+    model: Model
+    normal: tuple[Texture, float] | None = None
+    occlusion: tuple[Any, float] | None = None
+    emission: Texture | None = None
+    alpha: tuple[TextureSource, float] | None = None
+    applied: int = 0
+    skipped: list[str] = field(default_factory=list)
+
+
+class _TextureCache:
+    """Decodes each image once per colour space, sampler and channel need (Pillow, as
+    :meth:`brdfpy.Texture.from_bytes`)."""
+
+    def __init__(self) -> None:
+        self._cache: dict[tuple[Any, ...], Texture | str] = {}
+
+    def get(self, ref: TextureRef, rgb: bool = False) -> Texture | str:
+        """The texture, or why it cannot be read. ``rgb``: a 1-channel image is widened to RGB (a
+        metallic-roughness texture saved as grey)."""
+        # One filter serves magnification and minification: NEAREST magnification is asked for by pixel
+        # art, which wants no blending either way; else mip-mapped minification decides.
+        filt = "nearest" if ref.mag_filter == "NEAREST" else ("trilinear" if ref.mipmaps else "bilinear")
+        wrap = (_WRAP_NAMES.get(ref.wrap_s, "repeat"), _WRAP_NAMES.get(ref.wrap_t, "repeat"))
+        key = (ref.image, ref.color_space, wrap, filt, rgb)
+        hit = self._cache.get(key)
+        if hit is not None:
+            return hit
+        out: Texture | str
+        try:
+            a = _image_array(io.BytesIO(ref.image.read()))
+            if rgb and a.ndim == 2:
+                a = np.repeat(a[..., None], 3, axis=2)
+            out = Texture(a, wrap=wrap, filter=filt, colorspace=ref.color_space)
+        except (OSError, ValueError, TypeError) as e:  # a missing file, an image Pillow cannot decode
+            out = f"image {ref.image.name!r} not read ({e})"
+        self._cache[key] = out
+        return out
+
+
+def _is_height_map(t: Texture) -> bool:
+    """Whether an MTL ``map_Bump`` image holds heights rather than a tangent-space normal map: one channel,
+    or grey RGB (a normal map's blue, its z, is near 1 where red and green are near ½)."""
+    if t.channels == 1:
+        return True
+    r, g, b, _ = t.mean
+    return abs(r - g) < 0.02 and abs(g - b) < 0.02
+
+
+def height_to_normal_map(height: Texture, strength: float = 1.0) -> Texture:
+    """A tangent-space normal map (linear RGB, glTF's convention: +x right, +y up the image) of a height map
+    ``h`` in [0, 1] (its first channel): ``n = normalize(−s·∂h/∂x, −s·∂h/∂y, 1)`` stored as ``(n + 1)/2``,
+    with central differences in texel units (wrapping as the height map wraps) and ``s = strength`` (MTL's
+    ``-bm``)."""
+    h = height.levels()[0][..., 0].astype(np.float64)
+    wrap = height.wrap if isinstance(height.wrap, tuple) else (height.wrap, height.wrap)
+    mode = {"repeat": "wrap", "mirror": "symmetric", "clamp": "edge"}
+    hp = np.pad(h, ((0, 0), (1, 1)), mode=mode[wrap[0]])  # type: ignore[call-overload]
+    hp = np.pad(hp, ((1, 1), (0, 0)), mode=mode[wrap[1]])  # type: ignore[call-overload]
+    dx = (hp[1:-1, 2:] - hp[1:-1, :-2]) / 2
+    dy_up = (hp[:-2, 1:-1] - hp[2:, 1:-1]) / 2  # rows grow downward; +y of a normal texel is up
+    n = np.stack([-strength * dx, -strength * dy_up, np.ones_like(h)], -1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    return Texture((n * 0.5 + 0.5).astype(np.float32), wrap=wrap, filter=height.filter, colorspace="linear")
+
+
+def _textured(mat: AssetMaterial, cache: _TextureCache) -> _Maps:
+    """``mat`` with the textures it refers to applied (see the module documentation)."""
+    out = _Maps(mat.model)
+    tex: dict[str, Texture] = {}
+    for slot, ref in mat.textures.items():
+        if ref.tex_coord != 0:
+            out.skipped.append(f"{slot}: reads TEXCOORD_{ref.tex_coord} (only TEXCOORD_0 is read)")
+            continue
+        if ref.uv_offset != (0.0, 0.0) or ref.uv_scale != (1.0, 1.0):
+            out.skipped.append(f"{slot}: texture-coordinate offset/scale (-o/-s) is not applied")
+            continue
+        got = cache.get(ref, rgb=slot == "metallicRoughnessTexture")
+        if isinstance(got, str):
+            out.skipped.append(f"{slot}: {got}")
+            continue
+        tex[slot] = got
+
+    def use(slot: str) -> Texture | None:
+        t = tex.pop(slot, None)
+        out.applied += t is not None
+        return t
+
+    f = mat.factors
+    if mat.source == "gltf" or (mat.source == "mtl" and (f.get("Pr") is not None or f.get("Pm") is not None)):
+        if mat.source == "gltf":
+            base, metal, rough = f["base_color"][:3], f["metallic"], f["roughness"]
+        else:
+            base = np.clip(f["Kd"] if f["Kd"] is not None else (0.8, 0.8, 0.8), 0, 1)
+            metal, rough = f["Pm"] or 0.0, f["Pr"] if f["Pr"] is not None else 0.5
+        base_tex = use("baseColorTexture") or use("map_Kd")
+        mr_tex = use("metallicRoughnessTexture")
+        if mat.alpha_mode == "MASK" and base_tex is not None and base_tex.channels == 4:
+            out.alpha = (TextureSource.scaled(base_tex.channel(3), mat.opacity), mat.alpha_cutoff)
+        if base_tex is not None or mr_tex is not None:
+            out.model, _ = metallic_roughness(
+                base, metal, rough, base_color_texture=base_tex, metallic_roughness_texture=mr_tex
+            )
+    elif mat.model.name == "blinn_phong":
+        p = dict(mat.model.params)
+        kd, ks, ns = use("map_Kd"), use("map_Ks"), use("map_Ns")
+        # MTL: a map multiplies its constant (map_Kd × Kd, map_Ks × Ks, map_Ns × Ns).
+        if kd is not None:
+            p["kd"] = TextureSource.scaled(kd, p["kd"])
+        if ks is not None and max(p["ks"]) > 0:
+            p["ks"] = TextureSource.scaled(ks, p["ks"])
+        if ns is not None:
+            p["shininess"] = TextureSource.scaled(ns.channel(0), p["shininess"])
+        if kd is not None or ks is not None or ns is not None:
+            out.model = model("blinn_phong", **p)
+    elif mat.model.name == "lambert" and "map_Kd" in tex:  # MTL illum 0: Kd is the emitted colour
+        out.emission = use("map_Kd")
+    normal = use("normalTexture") or use("norm")
+    if normal is not None:
+        scale = mat.textures["normalTexture" if "normalTexture" in mat.textures else "norm"].scale
+        out.normal = (normal, scale if mat.source == "gltf" else 1.0)
+    bump = use("map_Bump") or use("bump")
+    if bump is not None and out.normal is None:
+        strength = mat.textures["map_Bump" if "map_Bump" in mat.textures else "bump"].scale
+        out.normal = (height_to_normal_map(bump, strength), 1.0) if _is_height_map(bump) else (bump, 1.0)
+    occ = use("occlusionTexture")
+    if occ is not None:
+        out.occlusion = (occ.channel(0), mat.textures["occlusionTexture"].scale)
+    emissive = use("emissiveTexture") or use("map_Ke")
+    if emissive is not None:
+        out.emission = emissive
+    for slot in tex:
+        why = {
+            "map_Ka": "per-texel ambient reflectance is not supported",
+            "map_d": "brdfpy has no transparency",
+        }.get(slot, "not used by this material's model")
+        out.skipped.append(f"{slot}: {why}")
+    return out
+
+
 # -- cameras and lights ---------------------------------------------------------------------------------
 
 
@@ -480,6 +672,26 @@ def _default_lights(camera: Camera) -> list[Light]:
 # -- loading --------------------------------------------------------------------------------------------
 
 
+def _add_part(scene: Scene, m: Mesh, world: NDArray[np.float64], mat: AssetMaterial, maps: _Maps) -> Instance:
+    """Add one part with its material's model and maps."""
+    inst = scene.add(
+        m,
+        maps.model,
+        world,
+        ambient=mat.ambient,
+        emission=mat.emission if maps.emission is None else maps.emission,
+        normal_map=None if maps.normal is None else maps.normal[0],
+        normal_scale=1.0 if maps.normal is None else maps.normal[1],
+        occlusion_map=None if maps.occlusion is None else maps.occlusion[0],
+        occlusion_strength=1.0 if maps.occlusion is None else maps.occlusion[1],
+        alpha_mask=None if maps.alpha is None else maps.alpha[0],
+        alpha_cutoff=0.5 if maps.alpha is None else maps.alpha[1],
+    )
+    if maps.emission is not None:  # the map times the material's factor (glTF emissiveFactor, MTL Ke)
+        inst.emission = mat.emission
+    return inst
+
+
 def load_scene(
     path: str | os.PathLike[str],
     *,
@@ -527,7 +739,9 @@ def load_scene(
     Warns
     -----
     TexturesNotAppliedWarning
-        When materials refer to textures (once per call).
+        When texture references cannot be applied (once per call; each is in ``scene.asset.notes``): a
+        ``TEXCOORD_1`` set, a mesh without texture coordinates, an image that cannot be read or decoded, MTL
+        ``map_Ka`` / ``map_d`` / ``-o`` / ``-s``.
     """
     p = as_path("path", path)
     if not os.path.exists(p):
@@ -586,26 +800,33 @@ def load_scene(
         SceneAsset(p, fmt, [], materials, default, [], file_lights, False, False, skipped, notes)
     )
     asset = scene.asset
+    cache = _TextureCache()
+    textured: dict[int, _Maps] = {}
+    not_applied: list[str] = []
     for name, raw, xf, mat_index, uvs, tangents, colors in raw_parts:
         mat = default if mat_index is None else materials[mat_index]
-        if (
-            mat.alpha_mode == "MASK"
-            and mat.opacity < mat.alpha_cutoff
-            and "baseColorTexture" not in mat.textures
-        ):
+        if mat.alpha_mode == "MASK" and mat.opacity < mat.alpha_cutoff:
+            # No texel exceeds 1: the factor's alpha alone leaves nothing to draw.
             notes.append(
                 f"{name}: alpha mode MASK with alpha {mat.opacity:g} < cutoff {mat.alpha_cutoff:g}: not drawn"
             )
             continue
         mesh = raw if isinstance(raw, Mesh) else Mesh._wrap(raw)
         world = stand @ np.asarray(xf, dtype=np.float64)
-        inst = scene.add(mesh, mat.model, world, ambient=mat.ambient, emission=mat.emission)
-        part = AssetPart(name, inst, mat_index, uvs, tangents, colors)
+        maps = _Maps(mat.model)
+        if mat.textures and mesh.uvs is None:
+            not_applied += [f"{name}: {slot}: the mesh has no texture coordinates" for slot in mat.textures]
+        elif mat.textures:
+            if id(mat) not in textured:
+                textured[id(mat)] = _textured(mat, cache)
+                not_applied += [f"material {mat.name!r}: {why}" for why in textured[id(mat)].skipped]
+            maps = textured[id(mat)]
+
+        part = AssetPart(name, _add_part(scene, mesh, world, mat, maps), mat_index, uvs, tangents, colors)
         if mat.double_sided:
             st = mesh.stats()
             if not (st["watertight"] and st["signed_volume"] > 0):
-                back = mesh.copy().flip_winding()
-                part.backside = scene.add(back, mat.model, world, ambient=mat.ambient, emission=mat.emission)
+                part.backside = _add_part(scene, mesh.copy().flip_winding(), world, mat, maps)
         asset.parts.append(part)
     if not asset.parts:
         raise ValueError(f"{p}: nothing to draw ({'; '.join(notes) or 'no triangles'})")
@@ -633,12 +854,11 @@ def load_scene(
         scene.ambient_light = 0.1
         asset.default_lights = True
 
-    n_tex = len(asset.textures)
-    if n_tex:
+    asset.notes.extend(not_applied)
+    if not_applied:
         warnings.warn(
-            f"{p}: {n_tex} textures not applied (scene-file textures are not mapped onto brdfpy.Texture "
-            "yet); the materials' "
-            "constant factors are rendered, the references are kept in scene.asset.materials[i].textures",
+            f"{p}: {len(not_applied)} texture reference(s) not applied ({'; '.join(not_applied[:3])}"
+            f"{'; ...' if len(not_applied) > 3 else ''}); they are listed in scene.asset.notes",
             TexturesNotAppliedWarning,
             stacklevel=2,
         )

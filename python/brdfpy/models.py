@@ -300,12 +300,14 @@ def model(name: str, /, **params: ParamValue) -> Model:
 
     Any colour or scalar parameter may be a :class:`brdfpy.Texture` instead, read at every shaded point of
     a mesh with texture coordinates: a colour takes the texture's RGB (a 1-channel texture as grey), a
-    scalar one channel (``roughness=tex.channel(1)``; a 1-channel texture as it is). Values are clamped into
-    the parameter's documented range. The result is a :class:`TexturedModel`.
+    scalar one channel (``roughness=tex.channel(1)``; a 1-channel texture as it is); a
+    :class:`brdfpy.texture.TextureSource` computes a value from textures (a factor, a square, glTF's
+    metallic mixes). Values are clamped into the parameter's documented range. The result is a
+    :class:`TexturedModel`.
     """
-    from brdfpy.texture import Texture, TextureChannel
+    from brdfpy.texture import Texture, TextureChannel, TextureSource
 
-    bound = {k: v for k, v in params.items() if isinstance(v, (Texture, TextureChannel))}
+    bound = {k: v for k, v in params.items() if isinstance(v, (Texture, TextureChannel, TextureSource))}
     if not bound:
         return Model(name, **params)
     info = model_info(name)
@@ -316,8 +318,12 @@ def model(name: str, /, **params: ParamValue) -> Model:
         if spec is None:
             Model(name, **{k: 0.0})  # the registry's own message (unknown or renamed parameter)
             raise ValueError(f"{name} has no parameter {k!r}")  # pragma: no cover - the line above raises
-        tex = t.texture if isinstance(t, TextureChannel) else t
-        mean = np.asarray(tex.mean[:3] if not isinstance(t, TextureChannel) else [tex.mean[t.index]] * 3)
+        if isinstance(t, TextureSource):
+            mean = t.mean()
+        elif isinstance(t, TextureChannel):
+            mean = np.asarray([t.texture.mean[t.index]] * 3)
+        else:
+            mean = np.asarray(t.mean[:3])
         lo, hi = spec["min"], spec["max"]
         mean = np.clip(mean, -np.inf if lo is None else lo, np.inf if hi is None else hi)
         if spec["kind"] == "color":
@@ -357,7 +363,8 @@ class TexturedModel(Model):
 
     @property
     def textures(self) -> dict[str, Any]:
-        """The bound parameters: name → :class:`brdfpy.Texture` or ``Texture.channel(k)``."""
+        """The bound parameters: name → :class:`brdfpy.Texture`, ``Texture.channel(k)`` or
+        :class:`brdfpy.texture.TextureSource`."""
         return dict(self._textures)
 
     def _refuse(self, what: str) -> ValueError:

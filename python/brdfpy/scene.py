@@ -34,7 +34,7 @@ from brdfpy.image import Image
 from brdfpy.lights import Light, color3
 from brdfpy.mesh import Mesh, _mat4
 from brdfpy.models import Model
-from brdfpy.texture import Texture, TextureChannel, texture_read
+from brdfpy.texture import Texture, TextureChannel, TextureSource, source_args, texture_read
 
 __all__ = ["MAX_IMAGE_SIDE", "MAX_PIXELS", "OUTPUTS", "SHADING_MODES", "Instance", "ProgressBar", "Scene"]
 
@@ -75,10 +75,13 @@ class Instance:
     """One mesh placed in a scene: ``mesh``, ``material`` (a :class:`brdfpy.Model`), ``transform`` (4×4,
     object → world), ``ambient`` (``k_a``, linear RGB, or ``None`` for the material's white-sky albedo) and
     ``emission`` (linear RGB), and its maps: ``normal_map`` (with ``normal_scale``), ``occlusion_map`` (with
-    ``occlusion_strength``) and ``emission_map`` (a :class:`brdfpy.Texture` or ``None`` each). Returned by
+    ``occlusion_strength``), ``emission_map`` (a :class:`brdfpy.Texture` or ``None`` each) and ``alpha_mask``
+    (with ``alpha_cutoff``). Returned by
     :meth:`Scene.add`; its attributes may be reassigned (they are checked again at render time)."""
 
     __slots__ = (
+        "alpha_cutoff",
+        "alpha_mask",
         "ambient",
         "emission",
         "emission_map",
@@ -104,13 +107,16 @@ class Instance:
         self.occlusion_map: Any = None
         self.occlusion_strength = 1.0
         self.emission_map: Any = None
+        self.alpha_mask: Any = None
+        self.alpha_cutoff = 0.5
 
     def _texture_args(self) -> tuple[Any, ...] | None:
         """What the compiled renderer takes for this instance's textures, or ``None`` without any."""
         bound = getattr(self.material, "_textures", None) or {}
-        if not bound and self.normal_map is None and self.occlusion_map is None and self.emission_map is None:
+        maps = (self.normal_map, self.occlusion_map, self.emission_map, self.alpha_mask)
+        if not bound and all(m is None for m in maps):
             return None
-        params = [(k, *texture_read(k, t)) for k, t in bound.items()]
+        params = [(k, *source_args(k, t)) for k, t in bound.items()]
 
         def opt(name: str, t: Any) -> tuple[Any, int | None] | None:
             return None if t is None else texture_read(name, t)
@@ -122,10 +128,24 @@ class Instance:
             opt("occlusion_map", self.occlusion_map),
             as_float("occlusion_strength", self.occlusion_strength),
             opt("emission", self.emission_map),
+            None if self.alpha_mask is None else _alpha_args(self.alpha_mask, self.alpha_cutoff),
         )
 
     def __repr__(self) -> str:
         return f"Instance({self.mesh!r}, material={self.material!r})"
+
+
+def _alpha_args(mask: Any, cutoff: Any) -> tuple[Any, float]:
+    """The compiled renderer's alpha-mask argument: one read (a channel, possibly scaled) and the cutoff."""
+    if isinstance(mask, TextureChannel):
+        mask = TextureSource.scaled(mask)
+    if not isinstance(mask, TextureSource) or mask.kind != "texture" or mask.reads[0][0] is None:
+        raise TypeError(
+            "alpha_mask: expected tex.channel(k) or TextureSource.scaled(tex.channel(k), factor), got "
+            f"{type(mask).__name__}"
+        )
+    _, reads = mask._args()
+    return reads[0], as_float("alpha_cutoff", cutoff)
 
 
 class ProgressBar:
@@ -288,6 +308,8 @@ class Scene:
         normal_scale: float = 1.0,
         occlusion_map: Texture | TextureChannel | None = None,
         occlusion_strength: float = 1.0,
+        alpha_mask: TextureChannel | TextureSource | None = None,
+        alpha_cutoff: float = 0.5,
     ) -> Instance:
         """Add a mesh with a material; returns its :class:`Instance`.
 
@@ -319,6 +341,11 @@ class Scene:
             Ambient occlusion baked in texture space (glTF's ``occlusionTexture``, red channel unless a
             channel is chosen): the ambient and indirect terms are multiplied by
             ``1 + occlusion_strength·(r − 1)``. Shadows and ``ao`` are computed per pixel as ever.
+        alpha_mask : Texture.channel(k) or TextureSource.scaled(tex.channel(k), factor), optional
+            An alpha test (glTF's ``alphaMode: MASK``): a sample whose mask value (the channel at its
+            texture coordinates, filtered like any texture, times the factor) is below ``alpha_cutoff`` is
+            not drawn, so what lies behind shows through. It decides what is seen only: shadow and
+            ambient-occlusion rays still meet the whole triangles.
 
         Textures (these maps and any texture-bound parameter of ``material``, see :func:`brdfpy.model`)
         are read at the perspective-correct texture coordinates of every shaded sample, in every shading
@@ -358,6 +385,11 @@ class Scene:
         inst.occlusion_map = occlusion_map
         inst.occlusion_strength = as_float("occlusion_strength", occlusion_strength)
         inst.emission_map = emission_map
+        if alpha_mask is not None:
+            if m.uvs is None:
+                raise ValueError("alpha_mask: the mesh has no texture coordinates (Mesh(..., uvs=...))")
+            _alpha_args(alpha_mask, alpha_cutoff)
+            inst.alpha_mask, inst.alpha_cutoff = alpha_mask, alpha_cutoff
         self.instances.append(inst)
         return inst
 

@@ -23,6 +23,7 @@ the perspective-correct texture coordinates; the mip chain is box-filtered). **W
 
 from __future__ import annotations
 
+import io
 import os
 from typing import Any, Union
 
@@ -32,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from brdfpy import _brdfpy
 from brdfpy._arrays import _as_numeric, _to_f32
 
-__all__ = ["FILTERS", "WRAPS", "Texture", "TextureChannel"]
+__all__ = ["FILTERS", "WRAPS", "Texture", "TextureChannel", "TextureSource"]
 
 #: Wrap modes (glTF's REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
 WRAPS = ("repeat", "clamp", "mirror")
@@ -40,8 +41,9 @@ WRAPS = ("repeat", "clamp", "mirror")
 FILTERS = ("nearest", "bilinear", "trilinear")
 
 
-def _image_array(path: str | os.PathLike[str]) -> NDArray[Any]:
-    """The texels of an image file through Pillow: uint8 (H, W[, 3|4]), uint16 (H, W) or float32 (H, W)."""
+def _image_array(path: str | os.PathLike[str] | io.BytesIO) -> NDArray[Any]:
+    """The texels of an image file (or its encoded bytes) through Pillow: uint8 (H, W[, 3|4]), uint16 (H, W)
+    or float32 (H, W)."""
     from PIL import Image as PILImage
 
     with PILImage.open(path) as im:
@@ -68,8 +70,9 @@ class Texture:
         A NumPy array of shape ``(H, W)``, ``(H, W, 3)`` or ``(H, W, 4)`` (row 0 the top of the image) of
         floats (linear; converted to float32), ``uint8`` or ``uint16``; or the path of an image file, read
         with Pillow (8-bit grey, RGB, RGBA and palette images; 16-bit and float grey images).
-    wrap : str
-        ``"repeat"`` (default), ``"clamp"`` or ``"mirror"`` (see the module docs).
+    wrap : str or (str, str)
+        ``"repeat"`` (default), ``"clamp"`` or ``"mirror"`` (see the module docs); a pair gives the modes
+        along ``u`` and ``v`` (glTF's ``wrapS`` and ``wrapT``).
     filter : str
         ``"trilinear"`` (default, mip-mapped), ``"bilinear"`` or ``"nearest"``.
     colorspace : str, optional
@@ -91,11 +94,12 @@ class Texture:
         self,
         data_or_path: ArrayLike | str | os.PathLike[str],
         *,
-        wrap: str = "repeat",
+        wrap: str | tuple[str, str] = "repeat",
         filter: str = "trilinear",
         colorspace: str | None = None,
     ) -> None:
-        for name, v, known in (("wrap", wrap, WRAPS), ("filter", filter, FILTERS)):
+        wrap_u, wrap_v = _wrap_pair(wrap)
+        for name, v, known in (("filter", filter, FILTERS),):
             if not isinstance(v, str):
                 raise TypeError(f"{name}: expected one of {', '.join(known)}, got {type(v).__name__}")
         if colorspace is not None and not isinstance(colorspace, str):
@@ -110,7 +114,26 @@ class Texture:
                 raise TypeError(
                     f"data_or_path: expected an array of floats, uint8 or uint16, got dtype {a.dtype}"
                 )
-        self._t = _brdfpy.RasterTexture(np.ascontiguousarray(a), wrap, filter, colorspace)
+        self._t = _brdfpy.RasterTexture(np.ascontiguousarray(a), wrap_u, filter, colorspace, wrap_v)
+
+    @classmethod
+    def from_bytes(
+        cls,
+        data: bytes,
+        *,
+        wrap: str | tuple[str, str] = "repeat",
+        filter: str = "trilinear",
+        colorspace: str | None = None,
+    ) -> Texture:
+        """A texture from an encoded image (PNG, JPEG, ... as Pillow reads them; e.g. a glTF buffer view),
+        with the options of :class:`Texture`."""
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            raise TypeError(f"data: expected the bytes of an encoded image, got {type(data).__name__}")
+        try:
+            a = _image_array(io.BytesIO(bytes(data)))
+        except Exception as e:  # Pillow raises several types (UnidentifiedImageError, OSError, ...)
+            raise ValueError(f"data: not an image Pillow can decode ({e})") from e
+        return cls(a, wrap=wrap, filter=filter, colorspace=colorspace)
 
     @property
     def width(self) -> int:
@@ -128,9 +151,10 @@ class Texture:
         return int(self._t.channels)
 
     @property
-    def wrap(self) -> str:
-        """The wrap mode."""
-        return str(self._t.wrap)
+    def wrap(self) -> str | tuple[str, str]:
+        """The wrap mode, or the pair ``(u, v)`` when they differ."""
+        u, v = str(self._t.wrap), str(self._t.wrap_v)
+        return u if u == v else (u, v)
 
     @property
     def filter(self) -> str:
@@ -178,6 +202,15 @@ class Texture:
         return str(self._t.__repr__())
 
 
+def _wrap_pair(wrap: Any) -> tuple[str, str]:
+    """``(u, v)`` wrap modes of a name or a pair of names (checked by name in the core)."""
+    if isinstance(wrap, str):
+        return wrap, wrap
+    if isinstance(wrap, (tuple, list)) and len(wrap) == 2 and all(isinstance(w, str) for w in wrap):
+        return str(wrap[0]), str(wrap[1])
+    raise TypeError(f"wrap: expected one of {', '.join(WRAPS)} or a pair of them, got {wrap!r}")
+
+
 def _uv_rows(name: str, x: ArrayLike) -> NDArray[np.float32]:
     """``x`` as contiguous float32 rows of two texture coordinates, refused naming ``name`` otherwise."""
     a = _to_f32(name, _as_numeric(name, x))
@@ -200,8 +233,167 @@ class TextureChannel:
         return f"{self.texture!r}.channel({self.index})"
 
 
+_Read = tuple[Union[Texture, None], Union[int, None], tuple[float, float, float]]
+
+#: The kinds of :class:`TextureSource`, the core's ``ParamSource``.
+SOURCE_KINDS = ("texture", "squared", "metallic_diffuse", "metallic_f0")
+
+
+class TextureSource:
+    """A parameter value computed from textures per shaded point, for what one texture read cannot say:
+    ``factor ∘ texel`` (:meth:`scaled`), its square (:meth:`squared`: glTF's perceptual roughness → α), and
+    glTF 2.0 Appendix B's metallic mixes (:meth:`metallic_diffuse`: ``(1 − metallic)·baseColor``,
+    :meth:`metallic_f0`: ``mix(0.04, baseColor, metallic)``). Bind it like a texture:
+    ``brdfpy.model("cook_torrance", roughness=TextureSource.squared(mr.channel(1), 0.8))``. Each read is a
+    :class:`Texture` (RGB), a :class:`TextureChannel` or a constant (a number or three), times its factor;
+    values are clamped into the parameter's range as for any texture."""
+
+    __slots__ = ("kind", "reads")
+
+    def __init__(self, kind: str, reads: list[_Read]) -> None:
+        if not isinstance(kind, str) or kind not in SOURCE_KINDS:
+            raise ValueError(f"kind: expected one of {', '.join(SOURCE_KINDS)}, got {kind!r}")
+        want = 1 if kind in ("texture", "squared") else 2
+        if not isinstance(reads, (list, tuple)) or len(reads) != want:
+            raise ValueError(
+                f"reads: a {kind} source reads {want} (texture, channel, factor) triple(s), got {reads!r}"
+            )
+        self.kind = kind
+        self.reads = [_checked_read(f"reads[{i}]", r) for i, r in enumerate(reads)]
+
+    @classmethod
+    def scaled(cls, texture: Texture | TextureChannel, factor: ArrayLike = 1.0) -> TextureSource:
+        """``factor ∘ texel`` (a number, or RGB factors for a colour)."""
+        return cls("texture", [_read("texture", texture, factor)])
+
+    @classmethod
+    def squared(cls, texture: Texture | TextureChannel, factor: ArrayLike = 1.0) -> TextureSource:
+        """``(factor ∘ texel)²``: glTF's roughness ``r`` (G of the metallic-roughness texture times
+        ``roughnessFactor``) as the microfacet ``α = r²`` of ``cook_torrance``'s ``roughness``."""
+        return cls("squared", [_read("texture", texture, factor)])
+
+    @classmethod
+    def metallic_diffuse(cls, base_color: Any, metallic: Any) -> TextureSource:
+        """``(1 − metallic)·baseColor`` (glTF 2.0 Appendix B's diffuse colour, for ``kd``). ``base_color``:
+        a Texture, a :meth:`scaled` one or constant RGB; ``metallic``: a TextureChannel, a :meth:`scaled`
+        one or a constant."""
+        return cls("metallic_diffuse", [_read_of("base_color", base_color), _read_of("metallic", metallic)])
+
+    @classmethod
+    def metallic_f0(cls, base_color: Any, metallic: Any) -> TextureSource:
+        """``mix(0.04, baseColor, metallic)`` (glTF 2.0 Appendix B's normal-incidence reflectance, for
+        ``f0``); arguments as for :meth:`metallic_diffuse`."""
+        return cls("metallic_f0", [_read_of("base_color", base_color), _read_of("metallic", metallic)])
+
+    def mean(self) -> NDArray[np.float64]:
+        """The value at the textures' means (RGB; the means, not the mean of the values: exact for the
+        linear kinds), what :attr:`TexturedModel.params` shows."""
+        m = [_read_mean(r) for r in self.reads]
+        if self.kind == "texture":
+            return m[0]
+        if self.kind == "squared":
+            return m[0] * m[0]
+        metal = float(np.clip(m[1][0], 0.0, 1.0))
+        if self.kind == "metallic_diffuse":
+            return m[0] * (1.0 - metal)
+        return 0.04 * (1.0 - metal) + m[0] * metal
+
+    def textures(self) -> list[Texture]:
+        """The textures this source reads."""
+        return [t for t, _, _ in self.reads if t is not None]
+
+    def _args(self) -> tuple[str, list[tuple[Any, int | None, tuple[float, float, float]]]]:
+        return self.kind, [(None if t is None else t._t, c, f) for t, c, f in self.reads]
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, TextureSource) and (self.kind, self.reads) == (other.kind, other.reads)
+
+    def __hash__(self) -> int:
+        return hash((self.kind, tuple((id(t), c, f) for t, c, f in self.reads)))
+
+    def __reduce__(self) -> Any:
+        return (TextureSource, (self.kind, self.reads))
+
+    def __repr__(self) -> str:
+        def one(r: _Read) -> str:
+            t, c, f = r
+            if t is None:
+                return repr(f)
+            base = repr(t) if c is None else f"{t!r}.channel({c})"
+            return base if f == (1.0, 1.0, 1.0) else f"{base} * {f}"
+
+        return f"TextureSource.{self.kind}({', '.join(one(r) for r in self.reads)})"
+
+
+def _checked_read(name: str, r: Any) -> _Read:
+    """A ``(texture or None, channel or None, factor)`` triple, checked."""
+    if not isinstance(r, (tuple, list)) or len(r) != 3:
+        raise ValueError(f"{name}: expected a (texture or None, channel or None, factor) triple, got {r!r}")
+    t, c, f = r
+    if t is not None and not isinstance(t, Texture):
+        raise TypeError(f"{name}: expected a brdfpy.Texture or None, got {type(t).__name__}")
+    if c is not None:
+        if isinstance(c, bool) or not isinstance(c, (int, np.integer)):
+            raise TypeError(f"{name}: the channel must be an integer or None, got {type(c).__name__}")
+        if t is None or not 0 <= int(c) < t.channels:
+            raise ValueError(f"{name}: channel {c} is not a channel of the texture")
+        c = int(c)
+    return (t, c, _factor3(name, f))
+
+
+def _factor3(name: str, factor: ArrayLike) -> tuple[float, float, float]:
+    try:
+        f = np.asarray(factor, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name}: expected a number or three numbers, got {factor!r}") from e
+    if f.size == 1:
+        f = np.repeat(f, 3)
+    if f.size != 3 or not np.isfinite(f).all() or (f < 0).any():
+        raise ValueError(f"{name}: expected a finite factor ≥ 0 (one number or three), got {factor!r}")
+    return (float(f[0]), float(f[1]), float(f[2]))
+
+
+def _read(name: str, t: Any, factor: ArrayLike) -> _Read:
+    if isinstance(t, TextureChannel):
+        return (t.texture, t.index, _factor3(name, factor))
+    if isinstance(t, Texture):
+        return (t, None, _factor3(name, factor))
+    raise TypeError(f"{name}: expected a brdfpy.Texture or tex.channel(k), got {type(t).__name__}")
+
+
+def _read_of(name: str, x: Any) -> _Read:
+    """A read of a texture, a scaled texture (``TextureSource.scaled``) or a constant."""
+    if isinstance(x, TextureSource):
+        if x.kind != "texture":
+            raise ValueError(
+                f"{name}: expected a texture, a scaled texture or a constant, got a {x.kind} source"
+            )
+        return x.reads[0]
+    if isinstance(x, (Texture, TextureChannel)):
+        return _read(name, x, 1.0)
+    return (None, None, _factor3(name, x))
+
+
+def _read_mean(r: _Read) -> NDArray[np.float64]:
+    t, c, f = r
+    if t is None:
+        return np.asarray(f, dtype=np.float64)
+    m = t.mean
+    texel = np.asarray(m[:3] if c is None else (m[c],) * 3, dtype=np.float64)
+    out: NDArray[np.float64] = texel * np.asarray(f, dtype=np.float64)
+    return out
+
+
 #: What a texture binding accepts.
-TextureLike = Union[Texture, TextureChannel]
+TextureLike = Union[Texture, TextureChannel, TextureSource]
+
+
+def source_args(name: str, t: Any) -> tuple[str, list[tuple[Any, int | None, tuple[float, float, float]]]]:
+    """``(kind, reads)`` of a bound parameter's value, as the compiled renderer takes it."""
+    if isinstance(t, TextureSource):
+        return t._args()
+    tex, channel = texture_read(name, t)
+    return "texture", [(tex, channel, (1.0, 1.0, 1.0))]
 
 
 def texture_read(name: str, t: Any) -> tuple[Any, int | None]:
@@ -210,4 +402,6 @@ def texture_read(name: str, t: Any) -> tuple[Any, int | None]:
         return (t.texture._t, t.index)
     if isinstance(t, Texture):
         return (t._t, None)
-    raise TypeError(f"{name}: expected a brdfpy.Texture (or tex.channel(k)), got {type(t).__name__}")
+    raise TypeError(
+        f"{name}: expected a brdfpy.Texture (or tex.channel(k), a TextureSource), got {type(t).__name__}"
+    )

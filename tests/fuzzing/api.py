@@ -141,6 +141,14 @@ INSTANCES: dict[str, Callable[[random.Random], Any]] = {
         "cook_torrance", kd=_texture(r), roughness=_texture(r, 3).channel(1)
     ),
     "RglBsdf": lambda r: _rgl(),
+    "TextureSource": lambda r: r.choice(
+        [
+            lambda: brdfpy.TextureSource.scaled(_texture(r), r.uniform(0, 2)),
+            lambda: brdfpy.TextureSource.squared(_texture(r, 3).channel(1), r.uniform(0, 1)),
+            lambda: brdfpy.TextureSource.metallic_diffuse(_texture(r, 3), _texture(r, 3).channel(2)),
+            lambda: brdfpy.TextureSource.metallic_f0((0.9, 0.6, 0.3), r.uniform(0, 1)),
+        ]
+    )(),
 }
 
 
@@ -705,6 +713,22 @@ PARAMS: dict[str, V.Generator] = {
     "filter": _names(lambda: ["nearest", "bilinear", "trilinear"]),
     "colorspace": _opt(_names(lambda: ["srgb", "linear"])),
     "texture": lambda r, h: INSTANCES["Texture"](r) if not h else V.hostile_other(r),
+    # texture sources (glTF's derived parameters) and alpha masks
+    "kind": _names(lambda: ["texture", "squared", "metallic_diffuse", "metallic_f0"]),
+    "reads": lambda r, h: (
+        [(INSTANCES["Texture"](r), None, (1.0, 1.0, 1.0))]
+        if not h
+        else r.choice(
+            [[], [(None, 7, 1.0)], [("t", None, (1, 1, 1))], [(None, None, -1.0)], V.hostile_other(r)]
+        )
+    ),
+    "factor": _channels(0.0, 2.0),
+    "base_color": lambda r, h: (
+        r.choice([_texture(r, 3), (0.9, 0.6, 0.3)]) if not h else r.choice([(-1, 0, 0), V.hostile_other(r)])
+    ),
+    "metallic": lambda r, h: r.choice([_texture(r, 3).channel(2), 0.5]) if not h else V.hostile_other(r),
+    "alpha_mask": _opt(lambda r, h: _texture(r, 4).channel(3) if not h else V.hostile_other(r)),
+    "alpha_cutoff": _f(0.0, 1.0),
     "index": _i(0, 3),
     "normal_map": lambda r, h: None if not h else V.hostile_other(r),
     "occlusion_map": lambda r, h: None if not h else V.hostile_other(r),

@@ -176,7 +176,7 @@ impl Scene {
             }
             inst.material.validate()?;
             if let Some(t) = &inst.material.textures {
-                if t.reads_textures() && inst.mesh.uvs.is_none() {
+                if (t.reads_textures() || t.alpha_mask().is_some()) && inst.mesh.uvs.is_none() {
                     return Err(RasterError::arg(
                         "textures",
                         format!(
@@ -224,6 +224,9 @@ fn texture_uses(t: &MaterialTextures) -> String {
     let mut v: Vec<&str> = t.bound_names();
     if t.has_normal_map() {
         v.push("normal map");
+    }
+    if t.alpha_mask().is_some() {
+        v.push("alpha mask");
     }
     if v.is_empty() { "occlusion or emission maps".into() } else { v.join(", ") }
 }

@@ -40,25 +40,38 @@ fn dims(shape: &[usize]) -> PyResult<(u32, u32, usize)> {
     Ok((side(h, "height")?, side(w, "width")?, c))
 }
 
+fn wrap_name(w: Wrap) -> &'static str {
+    match w {
+        Wrap::Repeat => "repeat",
+        Wrap::ClampToEdge => "clamp",
+        Wrap::MirroredRepeat => "mirror",
+    }
+}
+
 #[pymethods]
 impl RasterTexture {
     /// From a C-contiguous array `data` of float32 (linear), uint8 (sRGB-decoded unless `colorspace`
     /// is "linear") or uint16 (linear unless `colorspace` is "srgb"), shape (H, W), (H, W, 3) or
     /// (H, W, 4), row 0 the top of the image. `wrap`: "repeat", "clamp" or "mirror"; `filter`:
-    /// "nearest", "bilinear" or "trilinear".
+    /// "nearest", "bilinear" or "trilinear". `wrap_v`: the wrap mode along `v` (rows, glTF's
+    /// `wrapT`) when it differs from `wrap` (along `u`).
     #[new]
-    #[pyo3(signature = (data, wrap="repeat", filter="trilinear", colorspace=None))]
+    #[pyo3(signature = (data, wrap="repeat", filter="trilinear", colorspace=None, wrap_v=None))]
     fn new(
         py: Python<'_>,
         data: &Bound<'_, PyAny>,
         wrap: &str,
         filter: &str,
         colorspace: Option<&str>,
+        wrap_v: Option<&str>,
     ) -> PyResult<Self> {
-        let sampler = Sampler::new(
+        let mut sampler = Sampler::new(
             Wrap::from_name(wrap).map_err(raster_err)?,
             Filter::from_name(filter).map_err(raster_err)?,
         );
+        if let Some(v) = wrap_v {
+            sampler.wrap_v = Wrap::from_name(v).map_err(raster_err)?;
+        }
         let cs = colorspace.map(ColorSpace::from_name).transpose().map_err(raster_err)?;
         let contiguous = |ok: bool| {
             if ok { Ok(()) } else { Err(PyTypeError::new_err("data: expected a C-contiguous array")) }
@@ -99,14 +112,15 @@ impl RasterTexture {
     fn channels(&self) -> usize {
         self.inner.channels()
     }
-    /// "repeat", "clamp" or "mirror".
+    /// The wrap mode along `u` (columns): "repeat", "clamp" or "mirror".
     #[getter]
     fn wrap(&self) -> &'static str {
-        match self.inner.sampler.wrap_u {
-            Wrap::Repeat => "repeat",
-            Wrap::ClampToEdge => "clamp",
-            Wrap::MirroredRepeat => "mirror",
-        }
+        wrap_name(self.inner.sampler.wrap_u)
+    }
+    /// The wrap mode along `v` (rows).
+    #[getter]
+    fn wrap_v(&self) -> &'static str {
+        wrap_name(self.inner.sampler.wrap_v)
     }
     /// "nearest", "bilinear" or "trilinear".
     #[getter]
@@ -183,15 +197,26 @@ impl RasterTexture {
 /// One read of a texture as Python passes it: the texture and the channel (`None`: RGB).
 pub type TextureReadArgs<'py> = (PyRef<'py, RasterTexture>, Option<u8>);
 
+/// One read of a bound parameter's source: the texture (`None`: the constant `factor`), the channel
+/// (`None`: RGB) and the factor multiplying what is read.
+pub type SourceReadArgs<'py> = (Option<PyRef<'py, RasterTexture>>, Option<u8>, [f32; 3]);
+
+/// A bound parameter as Python passes it: `(name, kind, reads)`, `kind` one of "texture" and "squared"
+/// (one read) or "metallic_diffuse" and "metallic_f0" (two: the base colour, then the metalness), the
+/// core's [`ParamSource`] variants.
+pub type BoundParamArgs<'py> = (String, String, Vec<SourceReadArgs<'py>>);
+
 /// An instance's textures as Python passes them: `(params, normal_map, normal_scale, occlusion_map,
-/// occlusion_strength, emission_map)`, `params` a list of `(name, texture, channel)`.
+/// occlusion_strength, emission_map, alpha_mask)`, `params` the bound parameters, `alpha_mask` a read
+/// of one channel and the cutoff.
 pub type InstanceTextureArgs<'py> = (
-    Vec<(String, PyRef<'py, RasterTexture>, Option<u8>)>,
+    Vec<BoundParamArgs<'py>>,
     Option<TextureReadArgs<'py>>,
     f32,
     Option<TextureReadArgs<'py>>,
     f32,
     Option<TextureReadArgs<'py>>,
+    Option<(SourceReadArgs<'py>, f32)>,
 );
 
 fn read(t: &RasterTexture, channel: Option<u8>) -> TextureRef {
@@ -202,16 +227,48 @@ fn read(t: &RasterTexture, channel: Option<u8>) -> TextureRef {
     }
 }
 
+fn source_read((t, channel, factor): &SourceReadArgs<'_>) -> TextureRef {
+    let factor = Vec3::from_array(*factor);
+    match t {
+        Some(t) => read(t, *channel).with_factor(factor),
+        None => TextureRef::constant(factor),
+    }
+}
+
+/// The core's [`ParamSource`] of a bound parameter `(name, kind, reads)`.
+fn param_source((name, kind, reads): &BoundParamArgs<'_>) -> PyResult<ParamSource> {
+    let want = match kind.as_str() {
+        "texture" | "squared" => 1,
+        "metallic_diffuse" | "metallic_f0" => 2,
+        _ => {
+            return Err(invalid(format!(
+                "{name}: unknown texture source {kind:?} (expected texture, squared, metallic_diffuse or \
+                 metallic_f0)"
+            )));
+        }
+    };
+    if reads.len() != want {
+        return Err(invalid(format!("{name}: a {kind} source reads {want} texture(s), got {}", reads.len())));
+    }
+    let r = |i: usize| source_read(&reads[i]);
+    Ok(match kind.as_str() {
+        "texture" => ParamSource::Texture(r(0)),
+        "squared" => ParamSource::Squared(r(0)),
+        "metallic_diffuse" => ParamSource::MetallicDiffuse { base_color: r(0), metallic: r(1) },
+        _ => ParamSource::MetallicF0 { base_color: r(0), metallic: r(1) },
+    })
+}
+
 /// The core's [`MaterialTextures`] over `params` (the model's, at the textures' means) from what
 /// Python passed.
 pub fn material_textures(
     params: &brdf_core::params::Params,
     args: &InstanceTextureArgs<'_>,
 ) -> PyResult<MaterialTextures> {
-    let (bound, normal, scale, occlusion, strength, emission) = args;
+    let (bound, normal, scale, occlusion, strength, emission, alpha) = args;
     let mut mt = MaterialTextures::new(params.clone());
-    for (name, t, channel) in bound {
-        mt = mt.bind(name, ParamSource::Texture(read(t, *channel))).map_err(raster_err)?;
+    for b in bound {
+        mt = mt.bind(&b.0, param_source(b)?).map_err(raster_err)?;
     }
     if let Some((t, c)) = normal {
         mt = mt.with_normal_map(read(t, *c), *scale).map_err(raster_err)?;
@@ -221,6 +278,9 @@ pub fn material_textures(
     }
     if let Some((t, c)) = emission {
         mt = mt.with_emission_map(read(t, *c).with_factor(Vec3::ONE)).map_err(raster_err)?;
+    }
+    if let Some((r, cutoff)) = alpha {
+        mt = mt.with_alpha_mask(source_read(r), *cutoff).map_err(raster_err)?;
     }
     Ok(mt)
 }

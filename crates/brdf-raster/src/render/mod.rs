@@ -43,6 +43,7 @@
 //! at each
 //! shaded point (samples, or vertices in Gouraud mode). [`render`] uses [`NoOcclusion`] (`w = δ = 1`).
 
+mod alpha;
 mod interpolate;
 mod options;
 mod raster;

@@ -10,6 +10,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::Occlusion;
+use super::alpha::AlphaTested;
 use super::vertex::Prepared;
 use crate::framebuffer::{
     BandOut, BandSamples, BandScratch, Frame, Span, covered_spans, encode_band, resolve_band,
@@ -67,6 +68,18 @@ impl Prepared<'_> {
         });
     }
 
+    /// Coverage of one band into its visibility buffer, through the alpha test when an instance has a
+    /// mask ([`AlphaTested`]).
+    #[inline]
+    fn cover(&self, band: usize, row0: i32, rows: i32, width: usize, mut test: DepthTest<'_>) {
+        if self.masks.is_empty() {
+            raster_band(&self.chunks, band, row0, rows, width, &mut test);
+        } else {
+            let mut tested = AlphaTested::new(self, test, row0, width);
+            raster_band(&self.chunks, band, row0, rows, width, &mut tested);
+        }
+    }
+
     /// With an environment the background differs from pixel to pixel: every row is then shaded and
     /// encoded whole.
     #[inline]
@@ -116,7 +129,7 @@ impl Prepared<'_> {
                 None => sized(s_depth, n),
             };
             depth.fill(1.0);
-            raster_band(&self.chunks, band, row0, rows_s as i32, ws, &mut DepthTest { depth, tri });
+            self.cover(band, row0, rows_s as i32, ws, DepthTest { depth, tri });
             covered_spans(tri, 1, width, spans);
             self.widen_spans(spans, width);
             // Scratch colour is read only inside the spans (by the encode).
@@ -129,7 +142,7 @@ impl Prepared<'_> {
         } else {
             let d = sized(s_depth, n);
             d.fill(1.0);
-            raster_band(&self.chunks, band, row0, rows_s as i32, ws, &mut DepthTest { depth: d, tri });
+            self.cover(band, row0, rows_s as i32, ws, DepthTest { depth: d, tri });
             let sh = sized(s_hdr, n);
             let sn = normal.is_some().then(|| sized(s_normal, n));
             let sf = triangle_id.is_some().then(|| sized(s_face, n));

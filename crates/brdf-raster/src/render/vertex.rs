@@ -14,6 +14,7 @@ use crate::clip::{ClipVertex, GuardBand, MAX_POLY, clip_triangle, code};
 use crate::scene::Scene;
 use crate::setup::{Culling, SetupVertex, Viewport, setup_triangle};
 use crate::shading::ShadingMode;
+use crate::texture::AlphaMask;
 use crate::tiles::{CHUNK_FACES, Chunk, MAX_CHUNKS, band_rows};
 
 /// What triangle setup needs of a vertex (16 bytes, so the setup loop streams through little memory).
@@ -74,6 +75,8 @@ pub(super) struct Prepared<'a> {
     pub(super) backward: Vec3A,
     pub(super) ortho_view: Option<Vec3A>,
     pub(super) chunks: Vec<Chunk>,
+    /// Per instance: its alpha mask (glTF `MASK`), if any; empty when no instance has one.
+    pub(super) masks: Vec<Option<&'a AlphaMask>>,
 }
 
 impl<'a> Prepared<'a> {
@@ -110,7 +113,7 @@ impl<'a> Prepared<'a> {
                 vertex_base,
                 face_base,
                 mirrored: inst.mirrors(),
-                textured: inst.material.textures.is_some(),
+                textured: inst.material.textures.as_deref().is_some_and(|t| t.shades_textures()),
                 terms: Terms {
                     emission: inst.material.emission,
                     ambient: inst.material.ambient,
@@ -156,7 +159,16 @@ impl<'a> Prepared<'a> {
             backward: camera.backward().into(),
             ortho_view: camera.is_orthographic().then(|| camera.backward().into()),
             chunks: Vec::new(),
+            masks: Vec::new(),
         };
+        let masks: Vec<_> = scene
+            .instances
+            .iter()
+            .map(|i| i.material.textures.as_deref().and_then(|t| t.alpha_mask()))
+            .collect();
+        if masks.iter().any(Option::is_some) {
+            prep.masks = masks;
+        }
         if prep.shading == ShadingMode::Gouraud {
             prep.point_terms = prep.vertex_terms();
         }

@@ -187,6 +187,27 @@ pub struct MaterialTextures {
     normal: Option<(Read, f32)>,
     occlusion: Option<(Read, f32)>,
     emission: Option<Read>,
+    /// Alpha test: the texture read for coverage and the cutoff below which a sample is not drawn.
+    alpha: Option<AlphaMask>,
+}
+
+/// An alpha mask (glTF `alphaMode` `MASK`): a sample whose `factor · texel` is below `cutoff` is not
+/// drawn (it neither writes depth nor hides what is behind it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AlphaMask {
+    texture: Arc<Texture>,
+    channel: usize,
+    factor: f32,
+    cutoff: f32,
+}
+
+impl AlphaMask {
+    /// Whether the sample at `uv` (changing by `duv_dx`, `duv_dy` per sample column and row: the mip
+    /// level, as for shading) is drawn: `factor · texel ≥ cutoff`.
+    #[inline]
+    pub fn passes(&self, uv: Vec2, duv_dx: Vec2, duv_dy: Vec2) -> bool {
+        self.factor * self.texture.sample(uv, duv_dx, duv_dy)[self.channel] >= self.cutoff
+    }
 }
 
 /// What the textures give at one sample.
@@ -210,6 +231,7 @@ impl MaterialTextures {
             normal: None,
             occlusion: None,
             emission: None,
+            alpha: None,
         }
     }
 
@@ -348,6 +370,36 @@ impl MaterialTextures {
         map.check("emission", false)?;
         self.emission = Some(self.resolve(&map)?);
         Ok(self)
+    }
+
+    /// An alpha mask (glTF `MASK`): one channel of `map` (glTF: the base colour's alpha, channel 3, times
+    /// `baseColorFactor`'s alpha) against `cutoff` (glTF's `alphaCutoff`, finite and ≥ 0). The mask
+    /// decides coverage only: the texture is not read by shading for it.
+    pub fn with_alpha_mask(mut self, map: TextureRef, cutoff: f32) -> Result<Self, RasterError> {
+        map.check("alpha_mask", true)?;
+        if !(cutoff.is_finite() && cutoff >= 0.0) {
+            return Err(RasterError::arg("alpha_cutoff", format!("must be finite and ≥ 0, got {cutoff}")));
+        }
+        let Some(texture) = map.texture else {
+            return Err(RasterError::arg("alpha_mask", "needs a texture (a constant alpha is a plain cut)"));
+        };
+        let channel = match map.channel {
+            Channel::One(k) => usize::from(k),
+            Channel::Rgb => 0,
+        };
+        self.alpha = Some(AlphaMask { texture, channel, factor: map.factor.x, cutoff });
+        Ok(self)
+    }
+
+    /// The alpha mask, if any.
+    pub fn alpha_mask(&self) -> Option<&AlphaMask> {
+        self.alpha.as_ref()
+    }
+
+    /// Whether anything is read at shaded samples (parameters or maps; an alpha mask alone only decides
+    /// coverage).
+    pub fn shades_textures(&self) -> bool {
+        !self.bound.is_empty() || self.normal.is_some() || self.occlusion.is_some() || self.emission.is_some()
     }
 
     /// Every distinct texture's filtered value at `uv` (see [`Texture::sample`]) into `texels`

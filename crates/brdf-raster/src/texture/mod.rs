@@ -27,7 +27,7 @@ use brdf_core::tonemap::srgb_decode_f32;
 use glam::Vec4;
 
 use crate::RasterError;
-pub use binding::{Channel, MaterialTextures, ParamSource, TextureRef};
+pub use binding::{AlphaMask, Channel, MaterialTextures, ParamSource, TextureRef};
 pub use filter::level_of_detail;
 pub use image::{Level, MAX_TEXELS, MAX_TEXTURE_SIDE};
 pub use sampler::{Filter, Sampler, Wrap};
