@@ -15,8 +15,8 @@ use super::sampler::{Filter, Wrap};
 /// The texel of `level` holding point `uv`: `(⌊u·W⌋, ⌊v·H⌋)`, wrapped.
 #[inline(always)]
 pub(super) fn nearest(level: &Level, channels: usize, wrap: (Wrap, Wrap), uv: Vec2) -> Vec4 {
-    let x = (f64::from(uv.x) * f64::from(level.width)).floor() as i64;
-    let y = (f64::from(uv.y) * f64::from(level.height)).floor() as i64;
+    let x = (wrap.0.reduce(f64::from(uv.x)) * f64::from(level.width)).floor() as i64;
+    let y = (wrap.1.reduce(f64::from(uv.y)) * f64::from(level.height)).floor() as i64;
     level.texel(channels, wrap.0.index(x, level.width), wrap.1.index(y, level.height))
 }
 
@@ -25,9 +25,10 @@ pub(super) fn nearest(level: &Level, channels: usize, wrap: (Wrap, Wrap), uv: Ve
 /// + αβ·t(i+1, j+1)`, every index wrapped.
 #[inline(always)]
 pub(super) fn bilinear(level: &Level, channels: usize, wrap: (Wrap, Wrap), uv: Vec2) -> Vec4 {
-    // f64 so that large repeat counts (u = 1000.3) keep their fraction.
-    let x = f64::from(uv.x) * f64::from(level.width) - 0.5;
-    let y = f64::from(uv.y) * f64::from(level.height) - 0.5;
+    // f64 so that large repeat counts (u = 1000.3) keep their fraction; reduced by whole periods first so
+    // that the indices need no division to wrap.
+    let x = wrap.0.reduce(f64::from(uv.x)) * f64::from(level.width) - 0.5;
+    let y = wrap.1.reduce(f64::from(uv.y)) * f64::from(level.height) - 0.5;
     let (xf, yf) = (x.floor(), y.floor());
     let (a, b) = ((x - xf) as f32, (y - yf) as f32);
     let (i, j) = (xf as i64, yf as i64);

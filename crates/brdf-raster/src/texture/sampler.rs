@@ -32,13 +32,44 @@ impl Wrap {
         }
     }
 
+    /// `u` moved by whole periods of the wrap (1 for repeat, 2 for mirror; exact in f64) into
+    /// `[0, period)`, so that the texel indices of a filter footprint fall in or next to `0..n` and
+    /// [`Wrap::index`] takes its branch-only path instead of an integer division; clamp keeps `u`.
+    #[inline(always)]
+    pub fn reduce(self, u: f64) -> f64 {
+        match self {
+            Self::Repeat => u - u.floor(),
+            Self::MirroredRepeat => u - 2.0 * (0.5 * u).floor(),
+            Self::ClampToEdge => u,
+        }
+    }
+
     /// The texel index in `0..n` that index `i` reads.
     #[inline(always)]
     pub fn index(self, i: i64, n: u32) -> u32 {
+        if (0..i64::from(n)).contains(&i) {
+            return i as u32;
+        }
         let n = i64::from(n);
+        // Within one period of `0..n` (what a reduced coordinate's footprint reaches) without a division.
+        let near = (-n..2 * n).contains(&i);
         (match self {
+            Self::Repeat if near => {
+                if i < 0 {
+                    i + n
+                } else {
+                    i - n
+                }
+            }
             Self::Repeat => i.rem_euclid(n),
             Self::ClampToEdge => i.clamp(0, n - 1),
+            Self::MirroredRepeat if near => {
+                if i < 0 {
+                    -i - 1
+                } else {
+                    2 * n - 1 - i
+                }
+            }
             Self::MirroredRepeat => {
                 let k = i.rem_euclid(2 * n);
                 if k >= n { 2 * n - 1 - k } else { k }
@@ -107,5 +138,20 @@ mod tests {
         assert_eq!(idx(Wrap::ClampToEdge), vec![0, 0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2, 2, 2]);
         // Period 6 from index 0: 0 1 2 2 1 0 | 0 1 2 ...; index −1 reads 0 (mirrored about the edge).
         assert_eq!(idx(Wrap::MirroredRepeat), vec![1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0, 1, 2]);
+    }
+
+    #[test]
+    fn reducing_by_whole_periods_reads_the_same_texels() {
+        for w in [Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge] {
+            for k in -400..400 {
+                let u = f64::from(k) * 0.0173 + 0.001;
+                for n in [1u32, 3, 8] {
+                    let (a, b) =
+                        ((u * f64::from(n)).floor() as i64, (w.reduce(u) * f64::from(n)).floor() as i64);
+                    assert_eq!(w.index(a, n), w.index(b, n), "{w:?} u={u} n={n}");
+                    assert_eq!(w.index(a - 1, n), w.index(b - 1, n), "{w:?} u={u} n={n}: the left neighbour");
+                }
+            }
+        }
     }
 }
