@@ -129,7 +129,9 @@ def test_the_writer_round_trips_bit_for_bit(tmp_path: Path) -> None:
     again = AnisotropicTabulated(back.values, back.valid, half_data=back.half_data)
     assert again.to_bytes() == data
     scaled = t.to_bytes(scale=10.0)
-    np.testing.assert_allclose(AnisotropicTabulated.from_bytes(scaled, scale=10.0).values, t.values, rtol=1e-6)
+    np.testing.assert_allclose(
+        AnisotropicTabulated.from_bytes(scaled, scale=10.0).values, t.values, rtol=1e-6
+    )
 
 
 def _with_header(data: bytes, k: int, x: int) -> bytes:
@@ -153,40 +155,40 @@ def test_corrupt_files_are_refused_naming_the_argument_and_the_field(tmp_path: P
         (good[:64] + struct.pack("<f", np.nan) + good[68:], "value 0 of channel 0 is not finite"),
     ]
     for data, what in cases:
-        with pytest.raises(brdfpy.BrdfError, match="^data: ") as e:
+        with pytest.raises(brdfpy.BrdfError, match=r"^data: ") as e:
             AnisotropicTabulated.from_bytes(data)
         assert what in str(e.value), (what, str(e.value))
     p = tmp_path / "bad.dat"
     p.write_bytes(good[:-1])
-    with pytest.raises(brdfpy.BrdfError, match="bad.dat: data: .*truncated"):
+    with pytest.raises(brdfpy.BrdfError, match=r"bad\.dat: data: .*truncated"):
         AnisotropicTabulated.read_mit(p)
     with pytest.raises(FileNotFoundError):
         AnisotropicTabulated.read_mit(tmp_path / "missing.dat")
-    with pytest.raises(TypeError, match="^data: expected bytes"):
+    with pytest.raises(TypeError, match=r"^data: expected bytes"):
         AnisotropicTabulated.from_bytes(10**12)  # type: ignore[arg-type]
     for scale in (0.0, -1.0, float("nan"), float("inf")):
-        with pytest.raises(ValueError, match="^scale: "):
+        with pytest.raises(ValueError, match=r"^scale: "):
             AnisotropicTabulated.from_bytes(good, scale=scale)
-    with pytest.raises(TypeError, match="^scale: "):
+    with pytest.raises(TypeError, match=r"^scale: "):
         AnisotropicTabulated.from_bytes(good, scale="10")  # type: ignore[arg-type]
     m = brdfpy.model("lambert")
-    with pytest.raises(brdfpy.BrdfError, match="^dims: theta_in"):
+    with pytest.raises(brdfpy.BrdfError, match=r"^dims: theta_in"):
         AnisotropicTabulated.from_model(m, (0, 2, 2, 2))
-    with pytest.raises(ValueError, match="^dims: expected 4"):
+    with pytest.raises(ValueError, match=r"^dims: expected 4"):
         AnisotropicTabulated.from_model(m, (2, 2, 2))  # type: ignore[arg-type]
-    with pytest.raises(brdfpy.BrdfError, match="^dims: .*exceed"):
+    with pytest.raises(brdfpy.BrdfError, match=r"^dims: .*exceed"):
         AnisotropicTabulated.from_model(m, (4096, 4096, 4096, 4096))
-    with pytest.raises(TypeError, match="^model: "):
+    with pytest.raises(TypeError, match=r"^model: "):
         AnisotropicTabulated.from_model("ward", (2, 2, 2, 2))  # type: ignore[arg-type]
-    with pytest.raises(brdfpy.BrdfError, match="^values: expected shape"):
+    with pytest.raises(brdfpy.BrdfError, match=r"^values: expected shape"):
         AnisotropicTabulated(np.ones((2, 2, 2, 3)))
-    with pytest.raises(brdfpy.BrdfError, match="^values: .*finite and >= 0.*cell 0"):
+    with pytest.raises(brdfpy.BrdfError, match=r"^values: .*finite and >= 0.*cell 0"):
         AnisotropicTabulated(np.full((1, 1, 1, 2, 3), -1.0))
-    with pytest.raises(brdfpy.BrdfError, match="^valid: expected shape"):
+    with pytest.raises(brdfpy.BrdfError, match=r"^valid: expected shape"):
         AnisotropicTabulated(np.ones((1, 1, 1, 2, 3)), np.ones((1, 1, 2), bool))
-    with pytest.raises(TypeError, match="^valid: "):
+    with pytest.raises(TypeError, match=r"^valid: "):
         AnisotropicTabulated(np.ones((1, 1, 1, 2, 3)), np.ones((1, 1, 1, 2)))
-    with pytest.raises(TypeError, match="^half_data: "):
+    with pytest.raises(TypeError, match=r"^half_data: "):
         AnisotropicTabulated(np.ones((1, 1, 1, 2, 3)), half_data=1)  # type: ignore[arg-type]
 
 
@@ -195,16 +197,19 @@ def test_a_table_of_an_isotropic_model_agrees_with_the_model_and_the_isotropic_t
     l, v = _pairs(np.random.default_rng(5), 20000)
     truth = ct.eval(l, v, (0, 0, 1))
     errors = {}
+    tables = {}
     for dims in [(16, 16, 64, 4), (32, 32, 128, 4)]:
-        t = AnisotropicTabulated.from_model(ct, dims)
-        errors[dims] = _rel_rms(t.eval(l, v), truth)
-    iso = _rel_rms(measured.Tabulated.from_model(ct, (32, 32, 64)).eval(l, v, (0, 0, 1)), truth)
-    # Measured: 0.029 and 0.0075 (ratio 3.9: second order); the MERL-layout table 32x32x64: 0.0017 (its
-    # √θ_h spacing resolves the lobe with far fewer cells). The φ_in axis of an isotropic model is constant.
+        tables[dims] = AnisotropicTabulated.from_model(ct, dims).eval(l, v)
+        errors[dims] = _rel_rms(tables[dims], truth)
+    iso_t = measured.Tabulated.from_model(ct, (32, 32, 64)).eval(l, v, (0, 0, 1))
+    iso = _rel_rms(iso_t, truth)
+    # Measured: 0.0074 and 0.0018 (ratio 4.1: second order); the MERL-layout table 32x32x64: 0.0061. The φ_in
+    # axis of an isotropic model is constant, so 4 bins hold it.
     print("4-D table of Cook-Torrance, relative RMS error:", errors, "isotropic 32x32x64:", iso)
     e = list(errors.values())
-    assert e[1] < 0.012 and e[0] / e[1] > 3.0, errors
-    assert iso < e[1]
+    assert e[1] < 0.003 and e[0] / e[1] > 3.5, errors
+    # The two tables agree within the sum of their errors.
+    assert _rel_rms(tables[(32, 32, 128, 4)], iso_t) < e[1] + iso, (errors, iso)
 
 
 def test_a_table_of_ward_converges_to_ward_at_second_order() -> None:
@@ -217,10 +222,10 @@ def test_a_table_of_ward_converges_to_ward_at_second_order() -> None:
         t = AnisotropicTabulated.from_model(ward, (n, n, 4 * n, 4 * n))
         errors.append(_rel_rms(t.eval(l, v, (0, 0, 1), t_axis), truth))
     rates = [np.log2(a / b) for a, b in zip(errors, errors[1:])]
-    # Measured: errors 0.11, 0.028, 0.0071 (rates 2.0, 2.0).
+    # Measured: errors 0.083, 0.019, 0.0049 (rates 2.1, 1.9).
     print("4-D table of Ward (0.25, 0.5), relative RMS error at n = 6, 12, 24:", errors, "rates", rates)
     assert min(rates) > 1.7, (errors, rates)
-    assert errors[-1] < 0.01, errors
+    assert errors[-1] < 0.007, errors
 
 
 def test_a_table_of_a_reciprocal_model_is_reciprocal_and_follows_its_tangent() -> None:
@@ -229,10 +234,10 @@ def test_a_table_of_a_reciprocal_model_is_reciprocal_and_follows_its_tangent() -
     l, v = _pairs(np.random.default_rng(7), 5000)
     a, b = t.eval(l, v, (0, 0, 1), (1, 0, 0)), t.eval(v, l, (0, 0, 1), (1, 0, 0))
     diff = np.abs(a - b).max() / np.abs(a).max()
-    # Measured: 0.6 % of the peak: the bins sample l and v asymmetrically (φ_in is l's), so exchanging them
+    # Measured: 0.52 % of the peak: the bins sample l and v asymmetrically (φ_in is l's), so exchanging them
     # interpolates between other cells; the model itself is exactly reciprocal.
     print("reciprocity of the 16x16x64x64 table of Ward, worst difference / peak:", diff)
-    assert diff < 0.02
+    assert diff < 0.01
     half = AnisotropicTabulated.from_model(ward, (16, 16, 32, 64), half_data=True)
     np.testing.assert_allclose(
         half.eval(l, v, (0, 0, 1), (1, 0, 0)), half.eval(v, l, (0, 0, 1), (1, 0, 0)), rtol=1e-4, atol=1e-6
@@ -281,8 +286,9 @@ def test_the_table_as_a_model_evaluates_renders_and_pickles() -> None:
         assert np.array_equal(got.triangle_id, want.triangle_id)
         assert np.isfinite(got.hdr).all()
         errors.append(np.abs(got.hdr - want.hdr)[inside].sum() / np.abs(want.hdr)[inside].sum())
+    # Measured: 0.011 and 0.0028 (ratio 3.9).
     print("rendered sphere, table against Ward (relative L1):", errors)
-    assert errors[1] < 0.01 and errors[0] / errors[1] > 2.5, errors
+    assert errors[1] < 0.005 and errors[0] / errors[1] > 3.0, errors
 
 
 def test_an_rgl_material_is_a_model() -> None:
@@ -300,7 +306,7 @@ def test_an_rgl_material_is_a_model() -> None:
     scene = brdfpy.Scene(ambient_light=0.0)
     scene.add(brdfpy.icosphere(2), m)
     scene.add_light(brdfpy.DirectionalLight((-1, -1, -1), 3.0))
-    img = scene.render(brdfpy.Camera.perspective((0, 0, 3), (0, 0, 0), (0, 1, 0), 45), 24, 18)
+    img = scene.render(brdfpy.Camera.perspective((0, 0, 3), (0, 0, 0), (0, 1, 0), 45), 24, 18, outputs="all")
     assert np.isfinite(img.hdr).all() and img.hdr.max() > 0
     # Its 4-D resampling evaluates like it.
     t = rgl.to_anisotropic((12, 12, 48, 48))
@@ -325,7 +331,7 @@ def test_ward_is_fitted_to_an_anisotropic_table_with_no_start() -> None:
     assert same.params == rep.params
     turned = measured.fit("ward", l, v, (0, 0, 1), f, tangent=(0, 1, 0))
     assert abs(turned.params["alpha_x"] - 0.35) < 0.03, turned.params
-    with pytest.raises(TypeError, match="^tangent: "):
+    with pytest.raises(TypeError, match=r"^tangent: "):
         measured.fit("ward", t, tangent=(1, 0, 0))
     with pytest.raises(ValueError, match="tangent"):
         measured.fit("ward", l, v, (0, 0, 1), f, tangent=np.ones((3, 3), np.float32))

@@ -138,7 +138,9 @@ def mit_dat_files() -> dict[str, bytes]:
         "valid_2x2x3x4.dat": mit_dat((2, 2, 3, 4)),
         "valid_half_3x2x2x2.dat": mit_dat((3, 2, 2, 2), half=1, value=2.0),
         "valid_1x1x1x1.dat": mit_dat((1, 1, 1, 1)),
-        "header_only_45x45x180x90.dat": struct.pack("<16i", 45, 45, 180, 90, 0, 0, 1, 0, 0, 0, 3, 0, 0, 0, 0, 0),
+        "header_only_45x45x180x90.dat": struct.pack(
+            "<16i", 45, 45, 180, 90, 0, 0, 1, 0, 0, 0, 3, 0, 0, 0, 0, 0
+        ),
     }
 
 

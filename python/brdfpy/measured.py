@@ -45,8 +45,8 @@ __all__ = [
     "LOSSES",
     "MERL_RESOLUTION",
     "MIT_RESOLUTION",
-    "AnisotropicTabulated",
     "STRATEGIES",
+    "AnisotropicTabulated",
     "ChannelError",
     "Comparison",
     "Coverage",
@@ -309,11 +309,13 @@ class AnisotropicTabulated:
 
     "in" is the light ``l``, "out" the viewer ``v``; in the frame (tangent ``t``, bitangent ``b = n × t``,
     normal ``n``): ``θ_in``, ``θ_out`` are the polar angles from ``n`` in ``[0, π/2]``;
-    ``φ_in = atan2(−l·b, −l·t)`` in ``[0, 2π)``, the azimuth of ``−l`` (the direction the light travels), as the
+    ``φ_in = atan2(−l·b, −l·t)`` in ``[0, 2π)``, the azimuth of ``−l`` (the direction the light travels), as
+    the
     BRDF Explorer's shader measures it, so that a file has the same orientation in both programs;
     ``φ_diff = φ_out − φ_in`` (``φ_out`` likewise of ``v``) in ``[0, 2π)``, or ``[0, π)`` for a ``half_data``
     table, whose other half follows from reciprocity. Every axis has uniform bins whose values belong to their
-    centres ``(i + ½)·range/n``; between centres the look-up interpolates multilinearly, along ``θ`` it holds the
+    centres ``(i + ½)·range/n``; between centres the look-up interpolates multilinearly, along ``θ`` it holds
+    the
     first and last values beyond them, along ``φ`` it wraps around. Cells without data (negative in a file:
     a cell is without data when any channel is) hold 0 and are interpolated as 0 (continuous; the BRDF
     Explorer shows such bins black); :attr:`valid` is the mask, :attr:`coverage` its fraction.
@@ -356,7 +358,8 @@ class AnisotropicTabulated:
         ``θ_in, θ_out, φ_diff, φ_in``; ``[6]`` paramType 1, ``[7]`` binType 0, ``[9]`` half_data, ``[10]``
         num_channels 3), then float32 values, all red, then all green, then all blue, ``φ_in`` fastest.
         Every header field is checked and the file must be exactly as long as the header says; errors name the
-        file and the field. Values are kept as stored, times ``scale`` (the BRDF Explorer displays 10 times the
+        file and the field. Values are kept as stored, times ``scale`` (the BRDF Explorer displays 10 times
+        the
         stored values: pass 10 to match it)."""
         p, data = _read(path)
         try:
@@ -562,7 +565,8 @@ class RglBsdf:
     def as_model(self) -> Model:
         """This material as a :class:`brdfpy.Model` named ``"rgl_bsdf"`` (no parameters, physical; an
         anisotropic file is oriented by the tangent): a material for :meth:`brdfpy.Scene.add` and a model for
-        batch evaluation and :mod:`brdfpy.checks`. It evaluates as :meth:`eval`, one sample at a time (the warp
+        batch evaluation and :mod:`brdfpy.checks`. It evaluates as :meth:`eval`, one sample at a time (the
+        warp
         inversion has no vectorised form), and shares the material."""
         return Model("rgl_bsdf", _table=self._inner)
 
@@ -822,7 +826,8 @@ def fit(
         if v is None and n is None and values is None:
             if not isinstance(data, (tuple, list)) or len(data) != 4:
                 raise TypeError(
-                    "data: expected a measured.Tabulated, an AnisotropicTabulated or a tuple (l, v, n, values), "
+                    "data: expected a measured.Tabulated, an AnisotropicTabulated or a tuple "
+                    "(l, v, n, values), "
                     f"got {type(data).__name__}"
                 )
             l_, v_, n_, f_ = data

@@ -564,7 +564,9 @@ PARAMS: dict[str, V.Generator] = {
     ),
     "half_data": V.bools,
     "scale": _f(0.5, 20.0),
-    "valid": lambda r, h: None if not h else r.choice([np.ones((2, 2), bool), np.ones(3), V.hostile_other(r)]),
+    "valid": lambda r, h: (
+        None if not h else r.choice([np.ones((2, 2), bool), np.ones(3), V.hostile_other(r)])
+    ),
     # arrays of numbers
     "cos_i": _sc,
     "x": _sc,
