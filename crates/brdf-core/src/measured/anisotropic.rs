@@ -528,8 +528,8 @@ mod tests {
         eprintln!(
             "relative RMS error against Cook-Torrance: 4-D table 32x32x64x8 {e_aniso:.4}, MERL-layout 32x32x64 {e_iso:.4}"
         );
-        // Measured: 0.0205 (4-D) against 0.0024 (the half/difference grid resolves the lobe far better).
-        assert!(e_aniso < 0.03, "{e_aniso}");
+        // Measured: 0.0038 (4-D, 524 k cells) against 0.0022 (the half/difference grid, 65 k cells).
+        assert!(e_aniso < 0.005 && e_iso < e_aniso, "{e_aniso} {e_iso}");
     }
 
     #[test]
@@ -543,6 +543,7 @@ mod tests {
             })
             .collect();
         eprintln!("relative RMS error of the 4-D table of Ward (0.25, 0.5) at n = 6, 12, 24: {errs:?}");
+        // Measured: 0.071, 0.0175, 0.0045 (ratios 4.0, 3.9).
         for w in errs.windows(2) {
             assert!(w[0] / w[1] > 3.0, "errors {errs:?}");
         }
@@ -567,8 +568,10 @@ mod tests {
         eprintln!(
             "reciprocity of the full 4-D table of Ward: worst relative difference {worst:.2e}; half against full {worst_half:.3}"
         );
-        assert!(worst < 0.05, "{worst}");
-        assert!(worst_half < 0.1, "{worst_half}");
+        // Measured: 1.8e-2 (l and v are binned asymmetrically: exchanging them reads other cells) and
+        // 0.022 between the half and the full table.
+        assert!(worst < 0.03, "{worst}");
+        assert!(worst_half < 0.04, "{worst_half}");
     }
 
     #[test]

@@ -188,17 +188,18 @@ mod tests {
     #[test]
     fn a_file_built_by_hand_reads_to_its_values_at_its_bins() {
         let dims = [3, 4, 6, 8];
-        let bytes = by_hand(dims, 0, |c, i| if i == 5 { -2.0 } else { (c * 1000 + i) as f32 * 1e-3 });
+        let val = |c: usize, i: usize| (c * 1000 + i) as f32 * 1e-3;
+        let bytes = by_hand(dims, 0, |c, i| if i == 5 { -2.0 } else { val(c, i) });
         let t = AnisotropicTabulated::read_mit(&bytes, 1.0).unwrap();
         assert_eq!(t.dims(), [3, 4, 6, 8]);
         assert!(!t.half_data());
-        // Bin (1, 2, 3, 4): index 4 + 8·(3 + 6·(2 + 4·1)) = 300.
+        // Bin (1, 2, 3, 4): index 4 + 8·(3 + 6·(2 + 4·1)) = 316.
         let i = t.index([1, 2, 3, 4]);
-        assert_eq!(i, 300);
-        assert_eq!(t.data()[i], Vec3::new(0.3, 1.3, 2.3));
+        assert_eq!(i, 316);
+        assert_eq!(t.data()[i], Vec3::new(val(0, 316), val(1, 316), val(2, 316)));
         assert!(!t.valid()[5] && t.data()[5] == Vec3::ZERO);
         let t10 = AnisotropicTabulated::read_mit(&bytes, 10.0).unwrap();
-        assert_eq!(t10.data()[i], Vec3::new(0.3, 1.3, 2.3) * 10.0);
+        assert_eq!(t10.data()[i], Vec3::new(val(0, 316), val(1, 316), val(2, 316)) * 10.0);
     }
 
     #[test]
@@ -215,7 +216,9 @@ mod tests {
         assert_eq!(back, t);
         assert_eq!(back.write_mit(1.0).unwrap(), bytes);
         // A hand-made file with holes round-trips too (holes are written as −1).
-        let hand = by_hand([2, 2, 2, 2], 1, |c, i| if i % 5 == 0 { -1.0 } else { (c + i) as f32 });
+        let mut hand = by_hand([2, 2, 2, 2], 1, |c, i| if i % 5 == 0 { -1.0 } else { (c + i) as f32 });
+        // The writer writes the reserved fields as 0.
+        hand[48..52].fill(0);
         let t = AnisotropicTabulated::read_mit(&hand, 1.0).unwrap();
         assert!(t.half_data());
         assert_eq!(t.write_mit(1.0).unwrap(), hand);
