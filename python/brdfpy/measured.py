@@ -197,6 +197,8 @@ class Tabulated:
         r3 = _resolution("resolution", resolution)
         if not isinstance(mirror, (bool, np.bool_)):
             raise TypeError(f"mirror: expected a bool, got {type(mirror).__name__}")
+        if isinstance(min_weight, bool) or not isinstance(min_weight, (int, float, np.integer, np.floating)):
+            raise TypeError(f"min_weight: expected a number, got {type(min_weight).__name__}")
         mw = float(min_weight)
         nn = as_vectors("n", (0.0, 0.0, 1.0) if n is None else n)
         inner, cov = _brdfpy.Tabulated.from_samples(
