@@ -312,14 +312,12 @@ class AnisotropicTabulated:
     "in" is the light ``l``, "out" the viewer ``v``; in the frame (tangent ``t``, bitangent ``b = n × t``,
     normal ``n``): ``θ_in``, ``θ_out`` are the polar angles from ``n`` in ``[0, π/2]``;
     ``φ_in = atan2(−l·b, −l·t)`` in ``[0, 2π)``, the azimuth of ``−l`` (the direction the light travels), as
-    the
-    BRDF Explorer's shader measures it, so that a file has the same orientation in both programs;
+    the BRDF Explorer's shader measures it, so that a file has the same orientation in both programs;
     ``φ_diff = φ_out − φ_in`` (``φ_out`` likewise of ``v``) in ``[0, 2π)``, or ``[0, π)`` for a ``half_data``
     table, whose other half follows from reciprocity. Every axis has uniform bins whose values belong to their
     centres ``(i + ½)·range/n``; between centres the look-up interpolates multilinearly, along ``θ`` it holds
-    the
-    first and last values beyond them, along ``φ`` it wraps around. Cells without data (negative in a file:
-    a cell is without data when any channel is) hold 0 and are interpolated as 0 (continuous; the BRDF
+    the first and last values beyond them, along ``φ`` it wraps around. Cells without data (negative in a
+    file: a cell is without data when any channel is) hold 0 and are interpolated as 0 (continuous; the BRDF
     Explorer shows such bins black); :attr:`valid` is the mask, :attr:`coverage` its fraction.
 
     Parameters
@@ -361,8 +359,7 @@ class AnisotropicTabulated:
         num_channels 3), then float32 values, all red, then all green, then all blue, ``φ_in`` fastest.
         Every header field is checked and the file must be exactly as long as the header says; errors name the
         file and the field. Values are kept as stored, times ``scale`` (the BRDF Explorer displays 10 times
-        the
-        stored values: pass 10 to match it)."""
+        the stored values: pass 10 to match it)."""
         p, data = _read(path)
         try:
             return cls._wrap(_brdfpy.AnisotropicTabulated.from_mit_bytes(data, _scale(scale)))
@@ -568,8 +565,7 @@ class RglBsdf:
         """This material as a :class:`brdfpy.Model` named ``"rgl_bsdf"`` (no parameters, physical; an
         anisotropic file is oriented by the tangent): a material for :meth:`brdfpy.Scene.add` and a model for
         batch evaluation and :mod:`brdfpy.checks`. It evaluates as :meth:`eval`, one sample at a time (the
-        warp
-        inversion has no vectorised form), and shares the material."""
+        warp inversion has no vectorised form), and shares the material."""
         return Model("rgl_bsdf", _table=self._inner)
 
     def to_anisotropic(self, dims: tuple[int, int, int, int]) -> AnisotropicTabulated:
