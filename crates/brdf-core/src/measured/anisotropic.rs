@@ -303,21 +303,32 @@ impl AnisotropicTabulated {
         let one = F::splat(1.0);
         let ws =
             [[one - a[0].f, a[0].f], [one - a[1].f, a[1].f], [one - a[2].f, a[2].f], [one - a[3].f, a[3].f]];
-        let mut acc = V3::splat(Vec3::ZERO);
-        for corner in 0..16usize {
-            let bit = |k: usize| (corner >> (3 - k)) & 1;
-            let weight = ws[0][bit(0)] * ws[1][bit(1)] * ws[2][bit(2)] * ws[3][bit(3)];
-            let mut idx = [0usize; 8];
-            for (lane, slot) in idx.iter_mut().enumerate().take(F::LANES) {
-                let pick = |x: &Axis<F>, b: usize| if b == 0 { x.i0[lane] } else { x.i1[lane] };
-                *slot = self.index([
-                    pick(&a[0], bit(0)),
-                    pick(&a[1], bit(1)),
-                    pick(&a[2], bit(2)),
-                    pick(&a[3], bit(3)),
-                ]);
+        // Per axis and lane, the flat offsets of the lower and upper bins (φ_in fastest).
+        let strides = [d[1] * d[2] * d[3], d[2] * d[3], d[3], 1];
+        let mut off = [[[0usize; 8]; 2]; 4];
+        for (k, x) in a.iter().enumerate() {
+            for lane in 0..F::LANES {
+                off[k][0][lane] = x.i0[lane] * strides[k];
+                off[k][1][lane] = x.i1[lane] * strides[k];
             }
-            acc = acc + V3::from_fn(|lane| self.data[idx[lane]]).scale(weight);
+        }
+        // The 16 corners, θ_in's bit most significant; each weight is ((w0·w1)·w2)·w3.
+        let mut acc = V3::splat(Vec3::ZERO);
+        let mut idx = [0usize; 8];
+        for b0 in 0..2 {
+            for b1 in 0..2 {
+                let w01 = ws[0][b0] * ws[1][b1];
+                for b2 in 0..2 {
+                    let w012 = w01 * ws[2][b2];
+                    for b3 in 0..2 {
+                        let weight = w012 * ws[3][b3];
+                        for (lane, slot) in idx.iter_mut().enumerate().take(F::LANES) {
+                            *slot = off[0][b0][lane] + off[1][b1][lane] + off[2][b2][lane] + off[3][b3][lane];
+                        }
+                        acc = acc + V3::from_fn(|lane| self.data[idx[lane]]).scale(weight);
+                    }
+                }
+            }
         }
         acc
     }
