@@ -307,9 +307,10 @@ impl AnisotropicTabulated {
         let strides = [d[1] * d[2] * d[3], d[2] * d[3], d[3], 1];
         let mut off = [[[0usize; 8]; 2]; 4];
         for (k, x) in a.iter().enumerate() {
-            for lane in 0..F::LANES {
-                off[k][0][lane] = x.i0[lane] * strides[k];
-                off[k][1][lane] = x.i1[lane] * strides[k];
+            for (b, bins) in [&x.i0, &x.i1].into_iter().enumerate() {
+                for (o, &i) in off[k][b].iter_mut().zip(bins).take(F::LANES) {
+                    *o = i * strides[k];
+                }
             }
         }
         // The 16 corners, θ_in's bit most significant; each weight is ((w0·w1)·w2)·w3.
