@@ -144,6 +144,25 @@ def test_a_merl_table_read_from_bytes_round_trips() -> None:
     assert roundtrip(t).to_merl_bytes() == data
 
 
+def test_an_anisotropic_table_an_rgl_material_and_their_models_round_trip_with_the_same_bits() -> None:
+    ward = brdfpy.model("ward", alpha_x=0.2, alpha_y=0.5)
+    values = measured.AnisotropicTabulated.from_model(ward, (4, 4, 8, 8)).values
+    valid = np.ones(values.shape[:4], bool)
+    valid[1, 2, 3] = False
+    t = measured.AnisotropicTabulated(values, valid, half_data=True)
+    rgl = measured.RglBsdf.from_model(ward, n_theta_i=4, n_phi_i=5, grid=(8, 8))
+    l, v, n, tangent = _directions()
+    t2 = roundtrip(t)
+    assert same_bits(t.values, t2.values) and same_bits(t.valid, t2.valid) and t2.half_data
+    assert same_bits(t.eval(l, v, n, tangent), t2.eval(l, v, n, tangent))
+    for m in (t.as_model(), rgl.as_model()):
+        m2 = roundtrip(m)
+        assert m2.name == m.name
+        assert same_bits(m.eval(l, v, n, tangent), m2.eval(l, v, n, tangent))
+        assert same_bits(m.shade(l, v, n, tangent), m2.shade(l, v, n, tangent))
+    assert roundtrip(rgl).to_bytes() == rgl.to_bytes()
+
+
 # -- meshes, cameras, lights -----------------------------------------------------------------------------
 
 

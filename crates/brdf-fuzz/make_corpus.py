@@ -124,6 +124,26 @@ def merl_files() -> dict[str, bytes]:
     }
 
 
+def mit_dat(dims: tuple[int, int, int, int], half: int = 0, value: float = 0.05) -> bytes:
+    """A MIT CSAIL anisotropic .dat file from its published layout (brdf_core::measured::mit_dat): 16 int32,
+    then float32 values channel by channel; every 13th value negative (no data)."""
+    header = [*dims, 0, 0, 1, 0, 0, half, 3, 0, 0, 0, 0, 0]
+    n = dims[0] * dims[1] * dims[2] * dims[3]
+    vals = [-1.0 if i % 13 == 0 else value * (1 + (i % 5)) for i in range(3 * n)]
+    return struct.pack("<16i", *header) + struct.pack(f"<{3 * n}f", *vals)
+
+
+def mit_dat_files() -> dict[str, bytes]:
+    return {
+        "valid_2x2x3x4.dat": mit_dat((2, 2, 3, 4)),
+        "valid_half_3x2x2x2.dat": mit_dat((3, 2, 2, 2), half=1, value=2.0),
+        "valid_1x1x1x1.dat": mit_dat((1, 1, 1, 1)),
+        "header_only_45x45x180x90.dat": struct.pack(
+            "<16i", 45, 45, 180, 90, 0, 0, 1, 0, 0, 0, 3, 0, 0, 0, 0, 0
+        ),
+    }
+
+
 def mesh_files() -> dict[str, bytes]:
     # The layout of targets.rs `MeshBytes`: counts, flags, positions, indices, normals, colors, transform.
     def mesh(
@@ -309,6 +329,7 @@ def main() -> None:
         ("ply", ply_files()),
         ("stl", stl_files()),
         ("merl", merl_files()),
+        ("mit_dat", mit_dat_files()),
         ("mesh", mesh_files()),
         ("gltf", gltf_files()),
         ("hdr", hdr_files()),

@@ -1,9 +1,11 @@
 """Measured BRDFs (Matusik, Pfister, Brand & McMillan 2003, "A Data-Driven Reflectance Model").
 
-A tabulated isotropic BRDF with interpolated look-up; the file formats of measured materials — MERL
-``.binary``, RGL ``.bsdf`` (Dupuy & Jakob 2018, evaluated as Mitsuba 3 does: :class:`RglBsdf`) and CSV
-rows of scattered gonioreflectometer measurements (:meth:`Tabulated.from_samples`,
-:meth:`Tabulated.from_csv`); and fitting an analytic model's parameters to samples.
+A tabulated isotropic BRDF with interpolated look-up; an anisotropic 4-D table
+(:class:`AnisotropicTabulated`, the MIT CSAIL ``.dat`` data of Ngan, Durand & Matusik 2005); the file formats
+of measured materials — MERL ``.binary``, MIT CSAIL ``.dat``, RGL ``.bsdf`` (Dupuy & Jakob 2018, evaluated as
+Mitsuba 3 does: :class:`RglBsdf`) and CSV rows of scattered gonioreflectometer measurements
+(:meth:`Tabulated.from_samples`, :meth:`Tabulated.from_csv`); and fitting an analytic model's parameters to
+samples or tables.
 
 The table lives on Rusinkiewicz's half/difference angles ``(θ_h, θ_d, φ_d)`` in the layout of the MERL
 database (Matusik et al. 2003): ``θ_h`` nodes at ``(i / n)² · π/2``, ``θ_d`` at ``j / n · π/2``, ``φ_d`` at
@@ -42,7 +44,9 @@ if TYPE_CHECKING:  # views imports this module
 __all__ = [
     "LOSSES",
     "MERL_RESOLUTION",
+    "MIT_RESOLUTION",
     "STRATEGIES",
+    "AnisotropicTabulated",
     "ChannelError",
     "Comparison",
     "Coverage",
@@ -57,6 +61,10 @@ __all__ = [
 #: ``(n_theta_h, n_theta_d, n_phi_d)`` of the files of the MERL BRDF database.
 MERL_RESOLUTION = (90, 90, 180)
 
+#: ``(n_theta_in, n_theta_out, n_phi_diff, n_phi_in)`` the BRDF Explorer's shader assumes for the MIT CSAIL
+#: anisotropic files (``measuredAniso.func``): 32.8 M cells, 394 MB of RGB float32.
+MIT_RESOLUTION = (45, 45, 180, 90)
+
 
 def _resolution(name: str, resolution: object) -> tuple[int, int, int]:
     if not isinstance(resolution, (tuple, list, np.ndarray)):
@@ -68,6 +76,30 @@ def _resolution(name: str, resolution: object) -> tuple[int, int, int]:
         as_int(f"{name}[1]", resolution[1], 0, 2**32),
         as_int(f"{name}[2]", resolution[2], 0, 2**32),
     )
+
+
+def _dims(name: str, dims: object) -> tuple[int, int, int, int]:
+    if not isinstance(dims, (tuple, list, np.ndarray)):
+        raise TypeError(f"{name}: expected 4 integers, got {type(dims).__name__}")
+    if len(dims) != 4:
+        raise ValueError(f"{name}: expected 4 integers (θ_in, θ_out, φ_diff, φ_in), got {len(dims)}")
+    d = tuple(as_int(f"{name}[{k}]", dims[k], 0, 2**32) for k in range(4))
+    return (d[0], d[1], d[2], d[3])
+
+
+def _scale(scale: object) -> float:
+    if isinstance(scale, bool) or not isinstance(scale, (int, float, np.integer, np.floating)):
+        raise TypeError(f"scale: expected a number, got {type(scale).__name__}")
+    x = float(scale)
+    if not (np.isfinite(x) and x > 0.0):
+        raise ValueError(f"scale: must be finite and > 0, got {scale!r}")
+    return x
+
+
+def _flag(name: str, x: object) -> bool:
+    if not isinstance(x, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected a bool, got {type(x).__name__}")
+    return bool(x)
 
 
 def _read(path: str | os.PathLike[str]) -> tuple[str, bytes]:
@@ -165,6 +197,8 @@ class Tabulated:
         r3 = _resolution("resolution", resolution)
         if not isinstance(mirror, (bool, np.bool_)):
             raise TypeError(f"mirror: expected a bool, got {type(mirror).__name__}")
+        if isinstance(min_weight, bool) or not isinstance(min_weight, (int, float, np.integer, np.floating)):
+            raise TypeError(f"min_weight: expected a number, got {type(min_weight).__name__}")
         mw = float(min_weight)
         nn = as_vectors("n", (0.0, 0.0, 1.0) if n is None else n)
         inner, cov = _brdfpy.Tabulated.from_samples(
@@ -267,6 +301,152 @@ class Tabulated:
 
     def __repr__(self) -> str:
         return repr(self._inner)
+
+
+class AnisotropicTabulated:
+    """An anisotropic BRDF tabulated over ``(θ_in, θ_out, φ_diff, φ_in)`` in the tangent frame, looked up by
+    multilinear interpolation: the MIT CSAIL anisotropic data (A. Ngan, F. Durand, W. Matusik, "Experimental
+    Analysis of BRDF Models", EGSR 2005) in the ``.dat`` layout the BRDF Explorer reads (B. Burley, Disney
+    2012). Details: ``brdf_core::measured::anisotropic`` and ``mit_dat``.
+
+    "in" is the light ``l``, "out" the viewer ``v``; in the frame (tangent ``t``, bitangent ``b = n × t``,
+    normal ``n``): ``θ_in``, ``θ_out`` are the polar angles from ``n`` in ``[0, π/2]``;
+    ``φ_in = atan2(−l·b, −l·t)`` in ``[0, 2π)``, the azimuth of ``−l`` (the direction the light travels), as
+    the BRDF Explorer's shader measures it, so that a file has the same orientation in both programs;
+    ``φ_diff = φ_out − φ_in`` (``φ_out`` likewise of ``v``) in ``[0, 2π)``, or ``[0, π)`` for a ``half_data``
+    table, whose other half follows from reciprocity. Every axis has uniform bins whose values belong to their
+    centres ``(i + ½)·range/n``; between centres the look-up interpolates multilinearly, along ``θ`` it holds
+    the first and last values beyond them, along ``φ`` it wraps around. Cells without data (negative in a
+    file: a cell is without data when any channel is) hold 0 and are interpolated as 0 (continuous; the BRDF
+    Explorer shows such bins black); :attr:`valid` is the mask, :attr:`coverage` its fraction.
+
+    Parameters
+    ----------
+    values : array_like, shape (n_theta_in, n_theta_out, n_phi_diff, n_phi_in, 3)
+        RGB values at the bins, finite and ``>= 0`` where there are data; every axis at least 1 bin.
+    valid : array_like of bool, shape (n_theta_in, n_theta_out, n_phi_diff, n_phi_in), optional
+        The cells that have data (default: all).
+    half_data : bool
+        ``φ_diff`` covers ``[0, π)`` rather than ``[0, 2π)``.
+    """
+
+    __slots__ = ("_inner",)
+
+    def __init__(self, values: ArrayLike, valid: ArrayLike | None = None, *, half_data: bool = False) -> None:
+        a = np.asarray(values)
+        if a.dtype.kind not in "fiu":
+            raise TypeError(f"values: expected real numbers, got dtype {a.dtype}")
+        with np.errstate(over="ignore", invalid="ignore"):
+            a32 = np.require(a, np.float32, ["C", "A"])
+        m = None
+        if valid is not None:
+            mv = np.asarray(valid)
+            if mv.dtype != np.bool_:
+                raise TypeError(f"valid: expected an array of bool, got dtype {mv.dtype}")
+            m = np.require(mv, np.bool_, ["C", "A"])
+        self._inner = _brdfpy.AnisotropicTabulated(a32, m, _flag("half_data", half_data))
+
+    @classmethod
+    def _wrap(cls, inner: _brdfpy.AnisotropicTabulated) -> AnisotropicTabulated:
+        t = cls.__new__(cls)
+        t._inner = inner
+        return t
+
+    @classmethod
+    def read_mit(cls, path: str | os.PathLike[str], *, scale: float = 1.0) -> AnisotropicTabulated:
+        """Read a MIT CSAIL anisotropic ``.dat`` file: a header of 16 little-endian int32 (the bins of
+        ``θ_in, θ_out, φ_diff, φ_in``; ``[6]`` paramType 1, ``[7]`` binType 0, ``[9]`` half_data, ``[10]``
+        num_channels 3), then float32 values, all red, then all green, then all blue, ``φ_in`` fastest.
+        Every header field is checked and the file must be exactly as long as the header says; errors name the
+        file and the field. Values are kept as stored, times ``scale`` (the BRDF Explorer displays 10 times
+        the stored values: pass 10 to match it)."""
+        p, data = _read(path)
+        try:
+            return cls._wrap(_brdfpy.AnisotropicTabulated.from_mit_bytes(data, _scale(scale)))
+        except BrdfError as e:
+            if str(e).startswith("scale"):
+                raise
+            raise BrdfError(f"{p}: {e}") from None
+
+    @classmethod
+    def from_bytes(cls, data: bytes, *, scale: float = 1.0) -> AnisotropicTabulated:
+        """Parse the bytes of a MIT CSAIL ``.dat`` file (see :meth:`read_mit`)."""
+        return cls._wrap(_brdfpy.AnisotropicTabulated.from_mit_bytes(_bytes("data", data), _scale(scale)))
+
+    def to_bytes(self, *, scale: float = 1.0) -> bytes:
+        """The table as a MIT CSAIL ``.dat`` file (values divided by ``scale``, cells without data written as
+        −1, reserved header fields 0); :meth:`from_bytes` reads it back bit for bit."""
+        return self._inner.to_mit_bytes(_scale(scale))
+
+    def write_mit(self, path: str | os.PathLike[str], *, scale: float = 1.0) -> None:
+        """Write the table as a MIT CSAIL ``.dat`` file (see :meth:`to_bytes`)."""
+        data = self.to_bytes(scale=scale)
+        with open(as_path("path", path), "wb") as f:
+            f.write(data)
+
+    @classmethod
+    def from_model(
+        cls, model: Model, dims: tuple[int, int, int, int], *, half_data: bool = False
+    ) -> AnisotropicTabulated:
+        """Tabulate a model at the bin centres of ``dims = (n_theta_in, n_theta_out, n_phi_diff, n_phi_in)``,
+        with normal ``+z`` and tangent ``+x`` (``half_data``: ``φ_diff`` over ``[0, π)`` only, which assumes a
+        reciprocal model). Isotropic and anisotropic models alike; the interpolation error against the model
+        falls as the square of the bin width (measured in the tests)."""
+        if not isinstance(model, _brdfpy.Model):
+            raise TypeError(f"model: expected a brdfpy.Model, got {type(model).__name__}")
+        d = _dims("dims", dims)
+        return cls._wrap(_brdfpy.AnisotropicTabulated.from_model(model, d, _flag("half_data", half_data)))
+
+    @property
+    def dims(self) -> tuple[int, int, int, int]:
+        """``(n_theta_in, n_theta_out, n_phi_diff, n_phi_in)``."""
+        return self._inner.dims
+
+    @property
+    def half_data(self) -> bool:
+        """Whether ``φ_diff`` covers ``[0, π)`` (reciprocity gives the rest)."""
+        return self._inner.half_data
+
+    @property
+    def values(self) -> NDArray[np.float32]:
+        """A float32 copy of the values, shape ``dims + (3,)`` (0 in cells without data)."""
+        return self._inner.values
+
+    @property
+    def valid(self) -> NDArray[np.bool_]:
+        """A copy of the mask of the cells that have data, shape ``dims``."""
+        return self._inner.valid
+
+    @property
+    def coverage(self) -> float:
+        """The fraction of the cells that have data."""
+        return self._inner.coverage
+
+    def eval(
+        self, l: ArrayLike, v: ArrayLike, n: ArrayLike = (0.0, 0.0, 1.0), tangent: ArrayLike | None = None
+    ) -> NDArray[np.float32]:
+        """The interpolated value at light ``l`` and viewer ``v`` (``(..., 3)`` arrays that broadcast) about
+        normal ``n``, in the frame of ``tangent`` (projected onto the surface; without it, the arbitrary frame
+        of each normal, whose tangent is ``+x`` for ``n = +z``); 0 unless ``n·l > 0`` and ``n·v > 0``."""
+        t = None if tangent is None else as_vectors("tangent", tangent)
+        return self._inner._eval(as_vectors("l", l), as_vectors("v", v), as_vectors("n", n), t)
+
+    def as_model(self) -> Model:
+        """This table as a :class:`brdfpy.Model` named ``"measured_anisotropic"`` (no parameters, physical,
+        anisotropic: pass tangents): a material for :meth:`brdfpy.Scene.add` and a model for batch evaluation
+        and :mod:`brdfpy.checks`. The model shares the table."""
+        return Model("measured_anisotropic", _table=self._inner)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # By the bytes of its .dat file (the writer and reader round-trip bit for bit, mask included).
+        return (_aniso_from_bytes, (self.to_bytes(),))
+
+    def __repr__(self) -> str:
+        return repr(self._inner)
+
+
+def _aniso_from_bytes(data: bytes) -> AnisotropicTabulated:
+    return AnisotropicTabulated.from_bytes(data)
 
 
 class RglBsdf:
@@ -381,6 +561,21 @@ class RglBsdf:
         out = self._inner._eval(as_vectors("l", l), as_vectors("v", v), as_vectors("n", n), t, "pdf")
         return np.ascontiguousarray(out[..., 0])
 
+    def as_model(self) -> Model:
+        """This material as a :class:`brdfpy.Model` named ``"rgl_bsdf"`` (no parameters, physical; an
+        anisotropic file is oriented by the tangent): a material for :meth:`brdfpy.Scene.add` and a model for
+        batch evaluation and :mod:`brdfpy.checks`. It evaluates as :meth:`eval`, one sample at a time (the
+        warp inversion has no vectorised form), and shares the material."""
+        return Model("rgl_bsdf", _table=self._inner)
+
+    def to_anisotropic(self, dims: tuple[int, int, int, int]) -> AnisotropicTabulated:
+        """Resample the material onto an :class:`AnisotropicTabulated` table (:meth:`eval` at the bin centres,
+        normal ``+z``, tangent ``+x``)."""
+        return AnisotropicTabulated._wrap(self._inner.to_anisotropic(_dims("dims", dims)))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (_rgl_from_bytes, (self.to_bytes(),))
+
     def to_tabulated(self, resolution: tuple[int, int, int] = (90, 90, 180)) -> Tabulated:
         """Resample an isotropic material onto a half/difference :class:`Tabulated` table (:meth:`eval` at the
         nodes); anisotropic materials are refused."""
@@ -388,6 +583,10 @@ class RglBsdf:
 
     def __repr__(self) -> str:
         return repr(self._inner)
+
+
+def _rgl_from_bytes(data: bytes) -> RglBsdf:
+    return RglBsdf.from_bytes(data)
 
 
 #: The losses :func:`fit` minimises (``brdf_core::fit::Loss``; formulas and sources in :func:`fit`).
@@ -512,7 +711,7 @@ def _mapping(name: str, m: object) -> dict[str, Any]:
 
 def fit(
     model: str,
-    data: Tabulated | tuple[ArrayLike, ArrayLike, ArrayLike, ArrayLike] | ArrayLike,
+    data: Tabulated | AnisotropicTabulated | tuple[ArrayLike, ArrayLike, ArrayLike, ArrayLike] | ArrayLike,
     v: ArrayLike | None = None,
     n: ArrayLike | None = None,
     values: ArrayLike | None = None,
@@ -529,6 +728,7 @@ def fit(
     strategy: str = "cosine",
     max_iterations: int = 100,
     jacobian: str = "auto",
+    tangent: ArrayLike | None = None,
 ) -> FitReport:
     """Fit registry model ``model`` to measured data: ``fit("cook_torrance", table)``.
 
@@ -544,9 +744,11 @@ def fit(
     ----------
     model : str
         A registry name (see :func:`brdfpy.models`).
-    data : Tabulated, or (l, v, n, values)
+    data : Tabulated, AnisotropicTabulated, or (l, v, n, values)
         A table (sampled by ``strategy``: ``samples`` pairs of directions from ``seed``, both below
-        ``max_theta`` degrees; see below), or arrays ``l, v, n`` of shape ``(..., 3)`` that broadcast and
+        ``max_theta`` degrees; see below; an :class:`AnisotropicTabulated` in its own frame, normal ``+z`` and
+        tangent ``+x``, which then orients an anisotropic model), or arrays ``l, v, n`` of shape ``(..., 3)``
+        that broadcast and
         ``values`` (measured ``f_r`` [1/sr], finite and ``>= 0``), as a tuple or as four positional
         arguments ``fit(model, l, v, n, values)``. Samples below the surface are dropped.
     fixed : mapping, optional
@@ -571,13 +773,17 @@ def fit(
         How a table is sampled: ``"cosine"`` draws ``l`` and ``v`` independently, cosine-distributed over the
         hemisphere cut at ``max_theta`` (default 80°, the cut-off of Ngan et al. 2005); ``"half_diff"`` draws
         uniformly in the table's index coordinates (as dense near the specular peak as the MERL grid), keeping
-        pairs below the cut-off. Ignored for arrays.
+        pairs below the cut-off (for an anisotropic table with a uniform azimuth of the half vector, so that
+        every orientation of the lobe is drawn). Ignored for arrays.
     max_iterations : int
         Most iterations of the final run.
     jacobian : str
         ``"auto"`` (default): analytic for Lambert and for Cook–Torrance with GGX, Smith masking and Schlick's
         Fresnel (checked against central differences in the tests), central differences otherwise;
         ``"finite_difference"``: central differences always.
+    tangent : array_like, optional
+        With arrays: the tangent of each sample (``(..., 3)``, broadcast with ``l``), orienting an anisotropic
+        model; without it, the arbitrary frame of each normal (tangent ``+x`` for ``n = +z``).
 
     Returns
     -------
@@ -593,7 +799,10 @@ def fit(
             raise ValueError(f"{name}: expected an integer in [{lo}, {hi}], got {k!r}")
     if not isinstance(loss, str) or loss not in LOSSES:
         raise ValueError(f"loss: expected one of {', '.join(LOSSES)}, got {loss!r}")
-    if isinstance(data, Tabulated):
+    ta: NDArray[np.float32] | None = None
+    if isinstance(data, (Tabulated, AnisotropicTabulated)):
+        if tangent is not None:
+            raise TypeError("tangent: a table is sampled in its own frame; give tangents with arrays only")
         if v is not None or n is not None or values is not None:
             raise TypeError("v, n, values: give a table alone, or the arrays l, v, n, values")
         if not isinstance(strategy, str) or strategy not in STRATEGIES:
@@ -605,13 +814,18 @@ def fit(
         )
         if theta is None or not 0.0 < theta <= 90.0:
             raise ValueError(f"max_theta: expected degrees in (0, 90], got {max_theta!r}")
-        la, va, fa = _brdfpy.table_samples(data._inner, samples, seed, theta, strategy)
+        if isinstance(data, AnisotropicTabulated):
+            la, va, fa = _brdfpy.aniso_table_samples(data._inner, samples, seed, theta, strategy)
+            ta = np.array([1.0, 0.0, 0.0], dtype=np.float32)
+        else:
+            la, va, fa = _brdfpy.table_samples(data._inner, samples, seed, theta, strategy)
         na = np.array([0.0, 0.0, 1.0], dtype=np.float32)
     else:
         if v is None and n is None and values is None:
             if not isinstance(data, (tuple, list)) or len(data) != 4:
                 raise TypeError(
-                    "data: expected a measured.Tabulated or a tuple (l, v, n, values), "
+                    "data: expected a measured.Tabulated, an AnisotropicTabulated or a tuple "
+                    "(l, v, n, values), "
                     f"got {type(data).__name__}"
                 )
             l_, v_, n_, f_ = data
@@ -621,6 +835,7 @@ def fit(
             l_, v_, n_, f_ = data, v, n, values
         la, va, na = as_vectors("l", l_), as_vectors("v", v_), as_vectors("n", n_)
         fa = as_vectors("values", f_)
+        ta = None if tangent is None else as_vectors("tangent", tangent)
     w = None
     if weights is not None:
         w = np.ascontiguousarray(_as_numeric("weights", weights), dtype=np.float64)
@@ -640,7 +855,20 @@ def fit(
     if jacobian not in ("auto", "finite_difference"):
         raise ValueError(f"jacobian: expected 'auto' or 'finite_difference', got {jacobian!r}")
     r = _brdfpy.fit_model(
-        model, la, va, na, fa, w, fixed_d, start_d, loss, multistart, choices_d, max_iterations, jacobian
+        model,
+        la,
+        va,
+        na,
+        fa,
+        w,
+        fixed_d,
+        start_d,
+        loss,
+        multistart,
+        choices_d,
+        max_iterations,
+        jacobian,
+        tangent=ta,
     )
     params: dict[str, Any] = dict(r["values"])
     chosen: dict[str, str] = dict(r["choices"])

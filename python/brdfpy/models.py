@@ -260,6 +260,10 @@ class Model(_brdfpy.Model):
         table = self._measured_table()
         if table is not None:
             return (_rebuild_measured, (table,))
+        # The other data-driven models by the bytes of their file (the writers round-trip bit for bit).
+        source = self._data_source()
+        if source is not None:
+            return (_rebuild_from_data, source)
         return (_rebuild, (self.name, self.params))
 
 
@@ -271,6 +275,14 @@ def _rebuild_measured(table: NDArray[np.float32]) -> Model:
     from brdfpy.measured import Tabulated
 
     return Tabulated(table).as_model()
+
+
+def _rebuild_from_data(name: str, data: bytes) -> Model:
+    from brdfpy.measured import AnisotropicTabulated, RglBsdf
+
+    if name == "rgl_bsdf":
+        return RglBsdf.from_bytes(data).as_model()
+    return AnisotropicTabulated.from_bytes(data).as_model()
 
 
 def model(name: str, /, **params: ParamValue) -> Model:

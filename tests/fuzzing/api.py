@@ -149,7 +149,47 @@ INSTANCES: dict[str, Callable[[random.Random], Any]] = {
             lambda: brdfpy.TextureSource.metallic_f0((0.9, 0.6, 0.3), r.uniform(0, 1)),
         ]
     )(),
+    "AnisotropicTabulated": lambda r: _aniso(),
 }
+
+
+@lru_cache(maxsize=1)
+def _aniso() -> Any:
+    return brdfpy.measured.AnisotropicTabulated.from_model(brdfpy.model("ward"), (2, 2, 3, 4))
+
+
+def _aniso_values(r: random.Random, h: bool) -> Any:
+    """Values of an AnisotropicTabulated: (a, b, c, d, 3) non-negative, or poison, wrong shape or dtype."""
+    if not h:
+        return np.full((2, 1, 3, 2, 3), 0.1, np.float32)
+    return r.choice(
+        [
+            np.full((2, 2, 2, 2, 3), -1.0),
+            np.ones((0, 2, 2, 2, 3)),
+            np.ones((2, 2, 2, 2)),
+            np.full((1, 1, 1, 1, 3), np.nan),
+            V.hostile_other(r),
+        ]
+    )
+
+
+def _mit_bytes(r: random.Random, h: bool) -> Any:
+    if not h:
+        return _aniso().to_bytes()
+    good = _aniso().to_bytes()
+    return r.choice(
+        [
+            b"",
+            good[:40],
+            good[:-1],
+            good + b"\x00",
+            np.array([4096] * 4 + [0] * 12, "<i4").tobytes(),
+            np.array([2, 2, 3, 4, 0, 0, 7, 0, 0, 0, 3, 0, 0, 0, 0, 0], "<i4").tobytes() + good[64:],
+            -1,
+            10**12,
+            V.hostile_other(r),
+        ]
+    )
 
 
 def _texture(r: random.Random, channels: int | None = None) -> Any:
@@ -524,6 +564,17 @@ PARAMS: dict[str, V.Generator] = {
         )
     },
     "tangent_axis": _opt(_vec),
+    # measured: anisotropic tables and the MIT CSAIL .dat format
+    "dims": lambda r, h: (
+        tuple(r.randint(1, 4) for _ in range(4))
+        if not h
+        else r.choice([(0, 2, 2, 2), (2, 2, 2), (4096, 4096, 4096, 4096), (2, -1, 2, 2), V.hostile_other(r)])
+    ),
+    "half_data": V.bools,
+    "scale": _f(0.5, 20.0),
+    "valid": lambda r, h: (
+        None if not h else r.choice([np.ones((2, 2), bool), np.ones(3), V.hostile_other(r)])
+    ),
     # arrays of numbers
     "cos_i": _sc,
     "x": _sc,
@@ -794,6 +845,9 @@ OVERRIDES: dict[tuple[str, str], V.Generator] = {
         )
     ),
     ("brdfpy.measured.fit", "multistart"): _i(0, 4),
+    ("brdfpy.measured.fit", "tangent"): _opt(_vec),
+    ("brdfpy.measured.AnisotropicTabulated", "values"): _aniso_values,
+    ("brdfpy.measured.AnisotropicTabulated.from_bytes", "data"): _mit_bytes,
     ("brdfpy.measured.fit", "max_theta"): _f(10.0, 90.0),
     ("brdfpy.measured.compare", "sphere_size"): _i(8, 32),
     ("brdfpy.transforms.translate", "x"): lambda r, h: _f(-2, 2)(r, h) if r.random() < 0.5 else _vec(r, h),

@@ -57,7 +57,7 @@ mod table;
 use glam::Vec3;
 use rayon::prelude::*;
 
-pub use table::{Strategy, TableSampling, table_samples};
+pub use table::{Strategy, TableSampling, aniso_table_samples, table_samples};
 
 use crate::batch::{Directions, Quantity, evaluate};
 use crate::params::{Input, ModelSpec, ParamKind, ParamSpec, Params, Value};
@@ -163,6 +163,9 @@ pub struct FitOptions {
     pub loss: Loss,
     /// A weight ≥ 0 per sample (its residuals are multiplied by `√w`), or `None` for 1.
     pub weights: Option<Vec<f64>>,
+    /// A tangent per sample, orienting anisotropic models (and tables), or `None`: the arbitrary
+    /// frame of each normal ([`crate::ShadingFrame::from_normal`]; `+x` for the normal `+z`).
+    pub tangents: Option<Vec<Vec3>>,
     /// Latin-hypercube starts in addition to the given start (0: only the given start).
     pub multistart: usize,
     /// Discrete choices to search: each combination of the listed values is fitted, the lowest cost kept.
@@ -182,6 +185,7 @@ impl Default for FitOptions {
             start: Vec::new(),
             loss: Loss::Log,
             weights: None,
+            tangents: None,
             multistart: 8,
             choices: Vec::new(),
             max_iterations: 100,
@@ -271,6 +275,8 @@ struct Data {
     ls: Vec<Vec3>,
     vs: Vec<Vec3>,
     ns: Vec<Vec3>,
+    /// Tangents, one per sample, or empty (no tangent: the frame of each normal).
+    ts: Vec<Vec3>,
     d: Vec<Vec3>,
     cos: Vec<f64>,
     sqrt_w: Vec<f64>,
@@ -288,6 +294,7 @@ impl Data {
             ls: pick(&self.ls),
             vs: pick(&self.vs),
             ns: pick(&self.ns),
+            ts: pick(&self.ts),
             d: pick(&self.d),
             cos: self.cos.iter().step_by(stride).copied().collect(),
             sqrt_w: self.sqrt_w.iter().step_by(stride).copied().collect(),
@@ -298,7 +305,8 @@ impl Data {
     fn eval(&self, model: &Model) -> Vec<Vec3> {
         let mut out = vec![Vec3::ZERO; self.len()];
         // The slices all have the batch length, so this cannot fail.
-        if let Ok((dirs, _)) = Directions::new(&self.ls, &self.vs, &self.ns, None) {
+        let ts = (!self.ts.is_empty()).then_some(self.ts.as_slice());
+        if let Ok((dirs, _)) = Directions::new(&self.ls, &self.vs, &self.ns, ts) {
             evaluate(model, &dirs, Quantity::Brdf, &mut out);
         }
         out
@@ -414,7 +422,11 @@ fn param_of(
 }
 
 /// Check the samples and options, drop samples below the horizon.
-fn prepare(samples: &[Sample], weights: Option<&[f64]>) -> Result<Data, BrdfError> {
+fn prepare(
+    samples: &[Sample],
+    weights: Option<&[f64]>,
+    tangents: Option<&[Vec3]>,
+) -> Result<Data, BrdfError> {
     if let Some(i) = samples.iter().position(|s| !s.f.is_finite() || s.f.min_element() < 0.0) {
         return Err(BrdfError::InvalidInput {
             name: "values",
@@ -435,12 +447,30 @@ fn prepare(samples: &[Sample], weights: Option<&[f64]>) -> Result<Data, BrdfErro
             });
         }
     }
-    let mut data = Data { ls: vec![], vs: vec![], ns: vec![], d: vec![], cos: vec![], sqrt_w: vec![] };
+    if let Some(t) = tangents {
+        if t.len() != samples.len() {
+            return Err(BrdfError::InvalidInput {
+                name: "tangent",
+                problem: format!("expected one tangent per sample ({}), got {}", samples.len(), t.len()),
+            });
+        }
+        if let Some(i) = t.iter().position(|x| !x.is_finite()) {
+            return Err(BrdfError::InvalidInput {
+                name: "tangent",
+                problem: format!("must be finite; row {i} is {}", t[i]),
+            });
+        }
+    }
+    let mut data =
+        Data { ls: vec![], vs: vec![], ns: vec![], ts: vec![], d: vec![], cos: vec![], sqrt_w: vec![] };
     for (i, s) in samples.iter().enumerate() {
         if let Some(g) = Geometry::new(s.l, s.v, s.n, None).filter(Geometry::both_above) {
             data.ls.push(s.l);
             data.vs.push(s.v);
             data.ns.push(s.n);
+            if let Some(t) = tangents {
+                data.ts.push(t[i]);
+            }
             data.d.push(s.f);
             data.cos.push(f64::from(g.nl));
             data.sqrt_w.push(weights.map_or(1.0, |w| w[i].sqrt()));
@@ -542,7 +572,7 @@ pub fn fit_model(name: &str, samples: &[Sample], options: &FitOptions) -> Result
             return Err(bad(format!("more than {MAX_CHOICE_COMBINATIONS} combinations of choices")));
         }
     }
-    let data = prepare(samples, options.weights.as_deref())?;
+    let data = prepare(samples, options.weights.as_deref(), options.tangents.as_deref())?;
     let mean = data.d.iter().map(|d| f64::from(d.x + d.y + d.z)).sum::<f64>() / (3 * data.len()) as f64;
     let eps = (0.01 * mean).max(1e-12);
 

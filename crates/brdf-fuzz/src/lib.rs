@@ -1,4 +1,4 @@
-//! Fuzzing of brdfpy's file readers (OBJ, PLY, STL, MERL, glTF, Radiance HDR, OpenEXR) and of mesh validation, on the stable toolchain.
+//! Fuzzing of brdfpy's file readers (OBJ, PLY, STL, MERL, MIT CSAIL .dat, glTF, Radiance HDR, OpenEXR) and of mesh validation, on the stable toolchain.
 //!
 //! - [`targets`]: one `fn(&[u8])` per reader, checking the error contract on what it returns
 //!   (no panic; errors that name their source and say what is wrong; accepted data finite and in range).

@@ -25,7 +25,7 @@ fn usage() -> ExitCode {
          [--artifacts DIR] [--max-len BYTES] [--timeout-ms T] [--record]\n       \
          brdf-fuzz campaign [--targets a,b] [--execs N] [--chunk N] [--jobs J] [--chunk-timeout S] \
          [--seed K] [--artifacts DIR] [--json FILE]\n       brdf-fuzz replay <target> FILE...\n\
-         targets: obj, ply, stl, merl, mesh, gltf, hdr, exr"
+         targets: obj, ply, stl, merl, mit_dat, mesh, gltf, hdr, exr"
     );
     ExitCode::from(2)
 }
@@ -56,8 +56,9 @@ fn targets(spec: &str) -> Result<Vec<Target>, String> {
     }
     spec.split(',')
         .map(|name| {
-            Target::from_name(name)
-                .ok_or_else(|| format!("unknown target {name:?} (obj, ply, stl, merl, mesh, all)"))
+            Target::from_name(name).ok_or_else(|| {
+                format!("unknown target {name:?} (obj, ply, stl, merl, mit_dat, mesh, gltf, hdr, exr, all)")
+            })
         })
         .collect()
 }

@@ -7,7 +7,7 @@
 //! user would make next (bounds, area, face normals, a transform). A broken contract is returned as
 //! [`Violation`] so that the driver records the input like a panic.
 
-use brdf_core::measured::Tabulated;
+use brdf_core::measured::{AnisotropicTabulated, Tabulated};
 use brdf_raster::environment;
 use brdf_raster::io::{self, MeshFormat};
 use brdf_raster::{Mesh, RasterError};
@@ -37,6 +37,8 @@ pub enum Target {
     Stl,
     /// `brdf_core::measured::Tabulated::read_merl`: a MERL `.binary` table.
     Merl,
+    /// `brdf_core::measured::AnisotropicTabulated::read_mit`: a MIT CSAIL anisotropic `.dat` table.
+    MitDat,
     /// `brdf_raster::Mesh::new` (+ colors, transform, normals, statistics) on arbitrary arrays.
     Mesh,
     /// `brdf_raster::io::load_gltf_bytes`: glTF 2.0 JSON (data URIs) or GLB.
@@ -49,11 +51,12 @@ pub enum Target {
 
 impl Target {
     /// Every target, in the order the driver runs them.
-    pub const ALL: [Target; 8] = [
+    pub const ALL: [Target; 9] = [
         Target::Obj,
         Target::Ply,
         Target::Stl,
         Target::Merl,
+        Target::MitDat,
         Target::Mesh,
         Target::Gltf,
         Target::Hdr,
@@ -67,6 +70,7 @@ impl Target {
             Target::Ply => "ply",
             Target::Stl => "stl",
             Target::Merl => "merl",
+            Target::MitDat => "mit_dat",
             Target::Mesh => "mesh",
             Target::Gltf => "gltf",
             Target::Hdr => "hdr",
@@ -86,6 +90,7 @@ impl Target {
             Target::Ply => mesh_file(data, MeshFormat::Ply),
             Target::Stl => mesh_file(data, MeshFormat::Stl),
             Target::Merl => merl(data),
+            Target::MitDat => mit_dat(data),
             Target::Mesh => mesh_arrays(data),
             Target::Gltf => gltf(data),
             Target::Hdr => environment(data, "<memory>.hdr"),
@@ -204,6 +209,47 @@ fn merl(data: &[u8]) -> Result<Outcome, Violation> {
             Ok(Outcome::Ok)
         }
         Err(e) => check_message(&e.to_string(), "merl: "),
+    }
+}
+
+/// A table read holds finite values ≥ 0 (0 where there are no data), looks up finite values anywhere,
+/// and writes back to the same bytes when the file marked its holes with −1 (what the writer does).
+fn mit_dat(data: &[u8]) -> Result<Outcome, Violation> {
+    match AnisotropicTabulated::read_mit(data, 1.0) {
+        Ok(table) => {
+            let d = table.dims();
+            let cells: usize = d.iter().product();
+            if table.data().len() != cells || table.valid().len() != cells {
+                return violation(format!("{d:?} table holds {} values", table.data().len()));
+            }
+            if let Some(i) = table.data().iter().position(|v| !v.is_finite() || v.min_element() < 0.0) {
+                return violation(format!(
+                    "table value {i} is {} (must be finite and >= 0)",
+                    table.data()[i]
+                ));
+            }
+            for a in [
+                [0.0, 0.0, 0.0, 0.0],
+                [1.5, 1.5, 3.1, 6.2],
+                [-1.0, 9.0, -7.0, 1e30],
+                [0.3, 1e30, -1e30, -0.0],
+            ] {
+                let f = table.lookup(a[0], a[1], a[2], a[3]);
+                if !f.is_finite() || f.min_element() < 0.0 {
+                    return violation(format!("lookup({a:?}) is {f}"));
+                }
+            }
+            let out = match table.write_mit(1.0) {
+                Ok(out) => out,
+                Err(e) => return violation(format!("a table read cannot be written back: {e}")),
+            };
+            match AnisotropicTabulated::read_mit(&out, 1.0) {
+                Ok(back) if back == table => Ok(Outcome::Ok),
+                Ok(_) => violation("the table written back reads differently"),
+                Err(e) => violation(format!("the table written back is refused: {e}")),
+            }
+        }
+        Err(e) => check_message(&e.to_string(), "data: "),
     }
 }
 

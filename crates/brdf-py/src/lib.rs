@@ -35,8 +35,9 @@ mod _brdfpy {
     };
     #[pymodule_export]
     use super::measured::{
-        RglBsdf, Tabulated, fit_model, read_samples_csv_bytes, sh_basis, sh_clamped_cosine_zonal,
-        sh_max_order, sh_project, sh_quadrature, sh_reconstruct, table_samples,
+        AnisotropicTabulated, RglBsdf, Tabulated, aniso_table_samples, fit_model, read_samples_csv_bytes,
+        sh_basis, sh_clamped_cosine_zonal, sh_max_order, sh_project, sh_quadrature, sh_reconstruct,
+        table_samples,
     };
     #[pymodule_export]
     use super::microfacet::{distribution, masking, microfacet_names, smith_lambda};

@@ -8,7 +8,8 @@ use brdf_core::batch::{Batch, Directions, Quantity, evaluate_bxdf};
 use brdf_core::fit::{self, FitOptions, Jacobian, Loss, Sample, Strategy, TableSampling};
 use brdf_core::measured::samples::read_samples_csv;
 use brdf_core::measured::{
-    AngleUnit, Coverage, Measured, RglBsdf as CoreRgl, SampleOptions, Tabulated as CoreTabulated,
+    AngleUnit, AnisotropicTabulated as CoreAniso, Coverage, Measured, MeasuredAnisotropic, MeasuredRgl,
+    RglBsdf as CoreRgl, SampleOptions, Tabulated as CoreTabulated,
 };
 use brdf_core::sh;
 use glam::{DVec3, Vec3};
@@ -151,6 +152,215 @@ impl Tabulated {
     }
 }
 
+/// An anisotropic BRDF tabulated over (θ_in, θ_out, φ_diff, φ_in) in the tangent frame
+/// (`brdf_core::measured::AnisotropicTabulated`), looked up by multilinear interpolation.
+#[pyclass(frozen, module = "brdfpy._brdfpy")]
+pub struct AnisotropicTabulated {
+    /// Shared (not copied) with the models made by `as_model`.
+    inner: MeasuredAnisotropic,
+}
+
+impl AnisotropicTabulated {
+    /// The table as a model (shares the table).
+    pub fn measured(&self) -> &MeasuredAnisotropic {
+        &self.inner
+    }
+
+    fn wrap(t: CoreAniso) -> Self {
+        Self { inner: MeasuredAnisotropic(Arc::new(t)) }
+    }
+}
+
+/// `scale` for the `.dat` reader and writer, checked here so that the message names it.
+fn mit_scale(scale: f64) -> PyResult<f32> {
+    let s = scale as f32;
+    if !(s.is_finite() && s > 0.0) {
+        return Err(invalid(format!("scale: must be finite and > 0, got {scale}")));
+    }
+    Ok(s)
+}
+
+#[pymethods]
+impl AnisotropicTabulated {
+    /// From float32 C-contiguous values of shape `(n_theta_in, n_theta_out, n_phi_diff, n_phi_in, 3)` and
+    /// an optional bool mask of shape `(n_theta_in, n_theta_out, n_phi_diff, n_phi_in)` of the cells that
+    /// have data.
+    #[new]
+    #[pyo3(signature = (values, valid=None, half_data=false))]
+    fn new(
+        py: Python<'_>,
+        values: PyReadonlyArrayDyn<'_, f32>,
+        valid: Option<PyReadonlyArrayDyn<'_, bool>>,
+        half_data: bool,
+    ) -> PyResult<Self> {
+        let shape = values.shape().to_vec();
+        if shape.len() != 5 || shape[4] != 3 {
+            return Err(invalid(format!(
+                "values: expected shape (n_theta_in, n_theta_out, n_phi_diff, n_phi_in, 3), got {shape:?}"
+            )));
+        }
+        let flat = values
+            .as_slice()
+            .map_err(|_| PyTypeError::new_err("values: expected a C-contiguous float32 array"))?;
+        let dims = [shape[0], shape[1], shape[2], shape[3]];
+        let mask = match &valid {
+            Some(m) => {
+                if m.shape() != &shape[..4] {
+                    return Err(invalid(format!(
+                        "valid: expected shape {:?} (one flag per cell), got {:?}",
+                        &shape[..4],
+                        m.shape()
+                    )));
+                }
+                Some(
+                    m.as_slice()
+                        .map_err(|_| PyTypeError::new_err("valid: expected a C-contiguous bool array"))?
+                        .to_vec(),
+                )
+            }
+            None => None,
+        };
+        let data: Vec<Vec3> = bytemuck::cast_slice::<f32, Vec3>(flat).to_vec();
+        let inner = run(py, data.len(), || CoreAniso::new(dims, half_data, data, mask))?.map_err(to_py)?;
+        Ok(Self::wrap(inner))
+    }
+
+    /// Tabulate `model` at the bin centres of `dims = (n_theta_in, n_theta_out, n_phi_diff, n_phi_in)`.
+    #[staticmethod]
+    #[pyo3(signature = (model, dims, half_data=false))]
+    fn from_model(
+        py: Python<'_>,
+        model: PyRef<'_, Model>,
+        dims: (usize, usize, usize, usize),
+        half_data: bool,
+    ) -> PyResult<Self> {
+        let m = model.core().clone();
+        let d = [dims.0, dims.1, dims.2, dims.3];
+        let work = d.iter().fold(1usize, |a, &x| a.saturating_mul(x));
+        let inner = run(py, work, || CoreAniso::from_model(&m, d, half_data))?.map_err(to_py)?;
+        Ok(Self::wrap(inner))
+    }
+
+    /// Parse the bytes of a MIT CSAIL `.dat` file, values multiplied by `scale`.
+    #[staticmethod]
+    #[pyo3(signature = (data, scale=1.0))]
+    fn from_mit_bytes(py: Python<'_>, data: &[u8], scale: f64) -> PyResult<Self> {
+        let s = mit_scale(scale)?;
+        let inner = run(py, data.len(), || CoreAniso::read_mit(data, s))?.map_err(to_py)?;
+        Ok(Self::wrap(inner))
+    }
+
+    /// The table as a MIT CSAIL `.dat` file, values divided by `scale`.
+    #[pyo3(signature = (scale=1.0))]
+    fn to_mit_bytes<'py>(&self, py: Python<'py>, scale: f64) -> PyResult<Bound<'py, PyBytes>> {
+        let out = self.inner.0.write_mit(mit_scale(scale)?).map_err(to_py)?;
+        Ok(PyBytes::new(py, &out))
+    }
+
+    /// `(n_theta_in, n_theta_out, n_phi_diff, n_phi_in)`.
+    #[getter]
+    fn dims(&self) -> (usize, usize, usize, usize) {
+        let d = self.inner.0.dims();
+        (d[0], d[1], d[2], d[3])
+    }
+
+    /// Whether phi_diff covers [0, π) (reciprocity gives the rest).
+    #[getter]
+    fn half_data(&self) -> bool {
+        self.inner.0.half_data()
+    }
+
+    /// The fraction of the cells that have data.
+    #[getter]
+    fn coverage(&self) -> f64 {
+        self.inner.0.coverage()
+    }
+
+    /// A float32 copy of the values, shape `dims + (3,)` (0 in cells without data).
+    #[getter]
+    fn values<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let d = self.inner.0.dims();
+        let flat: &[f32] = bytemuck::cast_slice(self.inner.0.data());
+        PyArray1::from_slice(py, flat).reshape(vec![d[0], d[1], d[2], d[3], 3])
+    }
+
+    /// A bool copy of the mask of the cells that have data, shape `dims`.
+    #[getter]
+    fn valid<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<bool>>> {
+        let d = self.inner.0.dims();
+        PyArray1::from_slice(py, self.inner.0.valid()).reshape(vec![d[0], d[1], d[2], d[3]])
+    }
+
+    /// Batch look-up: float32 C-contiguous `(..., 3)` arrays whose leading shapes broadcast; the table's
+    /// frame is (tangent, n × tangent, n), the tangent arbitrary when not given.
+    #[pyo3(signature = (l, v, n, tangent=None))]
+    fn _eval<'py>(
+        &self,
+        py: Python<'py>,
+        l: PyReadonlyArrayDyn<'py, f32>,
+        v: PyReadonlyArrayDyn<'py, f32>,
+        n: PyReadonlyArrayDyn<'py, f32>,
+        tangent: Option<PyReadonlyArrayDyn<'py, f32>>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let t = crate::arrays::vec3_opt("tangent", &tangent)?;
+        let dirs = Directions::from_args(vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, t).map_err(to_py)?;
+        outputs::<Vec3>(py, dirs.shape(), |out| evaluate_bxdf(&self.inner, &dirs, Quantity::Brdf, out))
+    }
+
+    fn __repr__(&self) -> String {
+        let d = self.inner.0.dims();
+        format!(
+            "brdfpy.measured.AnisotropicTabulated(dims=({}, {}, {}, {}), half_data={}, coverage={:.3})",
+            d[0],
+            d[1],
+            d[2],
+            d[3],
+            if self.inner.0.half_data() { "True" } else { "False" },
+            self.inner.0.coverage()
+        )
+    }
+}
+
+/// The core model of a data-driven `brdfpy.Model` (`Model(name, _table=table)`): a `Tabulated`
+/// (`"measured"`), an `AnisotropicTabulated` (`"measured_anisotropic"`) or an `RglBsdf` (`"rgl_bsdf"`),
+/// sharing its data.
+pub fn data_model(name: &str, table: &Bound<'_, PyAny>) -> PyResult<brdf_core::Model> {
+    let m = if let Ok(t) = table.cast::<Tabulated>() {
+        brdf_core::Model::Measured(t.get().measured().clone())
+    } else if let Ok(t) = table.cast::<AnisotropicTabulated>() {
+        brdf_core::Model::MeasuredAnisotropic(t.get().measured().clone())
+    } else if let Ok(r) = table.cast::<RglBsdf>() {
+        brdf_core::Model::MeasuredRgl(MeasuredRgl(r.get().inner.clone()))
+    } else {
+        return Err(PyTypeError::new_err(
+            "_table: expected a measured table (Tabulated, AnisotropicTabulated or RglBsdf of brdfpy._brdfpy)",
+        ));
+    };
+    if m.spec().name != name {
+        return Err(invalid(format!(
+            "_table: a {} table makes Model({:?}, _table=...), not {name:?}",
+            m.spec().name,
+            m.spec().name
+        )));
+    }
+    Ok(m)
+}
+
+/// The names of the data-driven models (built from data, not by name).
+pub const DATA_MODELS: [&str; 3] = ["measured", "measured_anisotropic", "rgl_bsdf"];
+
+/// A data-driven model's data as `(name, file bytes)` for pickling (`None` for the others and for
+/// `"measured"`, which pickles by its table): the `.dat` and `.bsdf` writers round-trip bit for bit.
+pub fn data_source(m: &brdf_core::Model) -> PyResult<Option<(&'static str, Vec<u8>)>> {
+    Ok(match m {
+        brdf_core::Model::MeasuredAnisotropic(t) => {
+            Some(("measured_anisotropic", t.0.write_mit(1.0).map_err(to_py)?))
+        }
+        brdf_core::Model::MeasuredRgl(r) => Some(("rgl_bsdf", r.0.write())),
+        _ => None,
+    })
+}
+
 /// A [`Coverage`] as a dict of its fields.
 fn coverage_dict<'py>(py: Python<'py>, c: &Coverage) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -216,6 +426,20 @@ impl RglBsdf {
     /// The `.bsdf` file's bytes.
     fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
         PyBytes::new(py, &self.inner.write())
+    }
+
+    /// Resample the material onto a 4-D `(θ_in, θ_out, φ_diff, φ_in)` table (`RglBsdf::eval` at the bin
+    /// centres, tangent +x).
+    fn to_anisotropic(
+        &self,
+        py: Python<'_>,
+        dims: (usize, usize, usize, usize),
+    ) -> PyResult<AnisotropicTabulated> {
+        let m = brdf_core::Model::MeasuredRgl(MeasuredRgl(self.inner.clone()));
+        let d = [dims.0, dims.1, dims.2, dims.3];
+        let work = d.iter().fold(1usize, |a, &x| a.saturating_mul(x));
+        let t = run(py, work, || CoreAniso::from_model(&m, d, false))?.map_err(to_py)?;
+        Ok(AnisotropicTabulated::wrap(t))
     }
 
     /// Resample an isotropic material onto a half/difference table.
@@ -332,7 +556,7 @@ fn values_dict<'py>(py: Python<'py>, vals: &[(String, Vec<f64>)]) -> PyResult<Bo
 /// with `brdf_core::fit::fit_model`: every continuous parameter free unless in `fixed`. Returns a dict
 /// (see `brdfpy.measured.FitReport`). The GIL is released during the fit.
 #[pyfunction]
-#[pyo3(signature = (name, l, v, n, values, weights=None, fixed=None, start=None, loss="log", multistart=None, choices=None, max_iterations=None, jacobian="auto"))]
+#[pyo3(signature = (name, l, v, n, values, weights=None, fixed=None, start=None, loss="log", multistart=None, choices=None, max_iterations=None, jacobian="auto", tangent=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_model<'py>(
     py: Python<'py>,
@@ -349,6 +573,7 @@ pub fn fit_model<'py>(
     choices: Option<&Bound<'py, PyDict>>,
     max_iterations: Option<&Bound<'py, PyAny>>,
     jacobian: &str,
+    tangent: Option<PyReadonlyArrayDyn<'py, f32>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let jacobian = match jacobian {
         "auto" => Jacobian::Auto,
@@ -368,10 +593,13 @@ pub fn fit_model<'py>(
         Some(k) => crate::errors::integer("multistart", k, 0, 1024)? as usize,
         None => FitOptions::default().multistart,
     };
-    let b = Batch::new((vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3("values", &values)?))
+    let t = crate::arrays::vec3_opt("tangent", &tangent)?;
+    let has_t = t.is_some();
+    let b = Batch::new((vec3("l", &l)?, vec3("v", &v)?, vec3("n", &n)?, vec3("values", &values)?, t))
         .map_err(to_py)?;
-    let rows = b.map(|s: (Vec3, Vec3, Vec3, Vec3)| s).to_vec().map_err(to_py)?;
-    let samples: Vec<Sample> = rows.into_iter().map(|(l, v, n, f)| Sample { l, v, n, f }).collect();
+    let rows = b.map(|s: (Vec3, Vec3, Vec3, Vec3, Option<Vec3>)| s).to_vec().map_err(to_py)?;
+    let tangents: Option<Vec<Vec3>> = has_t.then(|| rows.iter().map(|r| r.4.unwrap_or(Vec3::ZERO)).collect());
+    let samples: Vec<Sample> = rows.into_iter().map(|(l, v, n, f, _)| Sample { l, v, n, f }).collect();
     let weights = match &weights {
         Some(w) => Some(
             w.as_slice()
@@ -396,6 +624,7 @@ pub fn fit_model<'py>(
         start: to_inputs(start)?,
         loss: Loss::from_name(loss).map_err(to_py)?,
         weights,
+        tangents,
         multistart,
         choices: search,
         max_iterations,
@@ -455,6 +684,33 @@ pub fn table_samples<'py>(
     };
     let t = table.inner.0.clone();
     let s = run(py, how.count, || fit::table_samples(&t, &how))?.map_err(to_py)?;
+    let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let flat: Vec<f32> = s.iter().flat_map(|x| f(x).to_array()).collect();
+        PyArray1::from_vec(py, flat).reshape([s.len(), 3])
+    };
+    Ok((col(|x| x.l)?, col(|x| x.v)?, col(|x| x.f)?))
+}
+
+/// Samples of an anisotropic table for a fit (`brdf_core::fit::aniso_table_samples`): `(l, v, values)`,
+/// float32 `(count, 3)` each, normal +z, tangent +x.
+#[pyfunction]
+#[pyo3(signature = (table, count, seed, max_theta, strategy))]
+pub fn aniso_table_samples<'py>(
+    py: Python<'py>,
+    table: PyRef<'py, AnisotropicTabulated>,
+    count: &Bound<'py, PyAny>,
+    seed: &Bound<'py, PyAny>,
+    max_theta: f64,
+    strategy: &str,
+) -> PyResult<SampleColumns<'py>> {
+    let how = TableSampling {
+        count: crate::errors::integer("samples", count, 16, 10_000_000)? as usize,
+        seed: crate::errors::integer("seed", seed, 0, i64::MAX)? as u64,
+        max_theta_deg: max_theta as f32,
+        strategy: Strategy::from_name(strategy).map_err(to_py)?,
+    };
+    let t = table.inner.0.clone();
+    let s = run(py, how.count, || fit::aniso_table_samples(&t, &how))?.map_err(to_py)?;
     let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
         let flat: Vec<f32> = s.iter().flat_map(|x| f(x).to_array()).collect();
         PyArray1::from_vec(py, flat).reshape([s.len(), 3])

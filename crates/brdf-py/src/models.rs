@@ -217,20 +217,18 @@ impl Model {
         // A measured model is built from its table (`Tabulated.as_model()` passes it as `_table`), not
         // from registry parameters.
         if let Some(table) = params.map(|d| d.get_item("_table")).transpose()?.flatten() {
-            let table = table.cast::<crate::measured::Tabulated>()?;
-            if name != "measured" || params.is_some_and(|d| d.len() > 1) {
-                return Err(invalid(
-                    "_table: only for Model(\"measured\", _table=...), with no other parameter",
-                ));
+            if params.is_some_and(|d| d.len() > 1) {
+                return Err(invalid("_table: only for Model(name, _table=...), with no other parameter"));
             }
-            let inner = brdf_core::Model::Measured(table.get().measured().clone());
+            let inner = crate::measured::data_model(name, &table)?;
             let params = Params::resolve(inner.spec(), &[]).map_err(to_py)?;
             return Ok(Self { inner, params });
         }
-        if name == "measured" {
-            return Err(invalid(
-                "name: \"measured\" is built from a table: brdfpy.measured.Tabulated(...).as_model()",
-            ));
+        if crate::measured::DATA_MODELS.contains(&name) {
+            return Err(invalid(format!(
+                "name: {name:?} is built from a table (its data): brdfpy.measured.Tabulated, \
+                 AnisotropicTabulated or RglBsdf (...).as_model()"
+            )));
         }
         let inputs = to_inputs(params)?;
         let inner = brdf_core::Model::build(name, &inputs).map_err(to_py)?;
@@ -309,7 +307,26 @@ impl Model {
         Ok(Some(numpy::PyArray1::from_slice(py, flat).reshape(vec![a, b, c, 3])?))
     }
 
+    /// A data-driven model's data for pickling, `(name, file bytes)` (`crate::measured::data_source`), or
+    /// `None`.
+    fn _data_source<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Option<(&'static str, Bound<'py, pyo3::types::PyBytes>)>> {
+        Ok(crate::measured::data_source(&self.inner)?.map(|(k, b)| (k, pyo3::types::PyBytes::new(py, &b))))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        if let brdf_core::Model::MeasuredAnisotropic(m) = &self.inner {
+            let d = m.0.dims();
+            return Ok(format!(
+                "brdfpy.measured.AnisotropicTabulated(dims=({}, {}, {}, {})).as_model()",
+                d[0], d[1], d[2], d[3]
+            ));
+        }
+        if let brdf_core::Model::MeasuredRgl(m) = &self.inner {
+            return Ok(format!("brdfpy.measured.RglBsdf({:?}).as_model()", m.0.parts().description));
+        }
         if let brdf_core::Model::Measured(m) = &self.inner {
             let (a, b, c) = m.0.dims();
             return Ok(format!("brdfpy.measured.Tabulated(shape=({a}, {b}, {c})).as_model()"));

@@ -11,6 +11,10 @@
 //!   pairs hit rarely.
 //!
 //! Both are deterministic in `seed` (SplitMix64, Steele, Lea & Flood 2014).
+//!
+//! An [`AnisotropicTabulated`] table is sampled by the same strategies ([`aniso_table_samples`]), in
+//! its own frame: normal `+z`, tangent `+x`. The half/difference strategy's random turn about the
+//! normal is then a uniform `φ_h`, so the pairs cover every orientation of the lobe.
 
 use std::f32::consts::{FRAC_PI_2, PI};
 
@@ -19,7 +23,7 @@ use glam::Vec3;
 use super::Sample;
 use crate::BrdfError;
 use crate::Geometry;
-use crate::measured::{Tabulated, directions_from_half_diff};
+use crate::measured::{AnisotropicTabulated, Tabulated, directions_from_half_diff};
 
 /// How [`table_samples`] draws directions (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,6 +92,23 @@ fn cosine_dir(rng: &mut SplitMix, s2max: f64) -> Vec3 {
 
 /// `count` samples of `table` (normal `+z`) by `how` (see the module docs).
 pub fn table_samples(table: &Tabulated, how: &TableSampling) -> Result<Vec<Sample>, BrdfError> {
+    draw(how, None, |g| table.eval(g))
+}
+
+/// `count` samples of an anisotropic `table` by `how` (see the module docs), with normal `+z` and the
+/// table's tangent `+x` (pass it to the fit: [`super::FitOptions::tangents`]).
+pub fn aniso_table_samples(
+    table: &AnisotropicTabulated,
+    how: &TableSampling,
+) -> Result<Vec<Sample>, BrdfError> {
+    draw(how, Some(Vec3::X), |g| table.eval(g))
+}
+
+fn draw(
+    how: &TableSampling,
+    tangent: Option<Vec3>,
+    value: impl Fn(&Geometry) -> Vec3,
+) -> Result<Vec<Sample>, BrdfError> {
     if !(16..=10_000_000).contains(&how.count) {
         return Err(BrdfError::InvalidInput {
             name: "samples",
@@ -131,8 +152,8 @@ pub fn table_samples(table: &Tabulated, how: &TableSampling) -> Result<Vec<Sampl
         if l.z <= cos_max || v.z <= cos_max {
             continue;
         }
-        let Some(g) = Geometry::new(l, v, Vec3::Z, None) else { continue };
-        out.push(Sample { l, v, n: Vec3::Z, f: table.eval(&g) });
+        let Some(g) = Geometry::new(l, v, Vec3::Z, tangent) else { continue };
+        out.push(Sample { l, v, n: Vec3::Z, f: value(&g) });
     }
     Ok(out)
 }

@@ -271,7 +271,7 @@ fn bad_requests_are_refused_naming_the_argument() {
 #[test]
 fn analytic_jacobians_match_central_differences() {
     let truth = ct(0.2, [0.5, 0.3, 0.1], [0.04, 0.05, 0.06]);
-    let data = prepare(&samples(&truth, 400, 0.0, 7), None).unwrap();
+    let data = prepare(&samples(&truth, 400, 0.0, 7), None, None).unwrap();
     let cases: [(&str, Vec<Free>, Vec<f64>); 2] = [
         ("lambert", vec![free("kd", true, 0.0, 1.0)], vec![0.3, 0.6, 0.2]),
         (
@@ -339,4 +339,38 @@ fn analytic_and_finite_difference_fits_agree() {
         }
     }
     assert!((a.cost - b.cost).abs() <= 1e-5 * a.cost, "cost {} vs {}", a.cost, b.cost);
+}
+
+#[test]
+fn an_anisotropic_table_fits_to_the_parameters_of_its_model_with_no_start() {
+    use crate::measured::AnisotropicTabulated;
+    let truth = Model::build(
+        "ward",
+        &[
+            ("kd".into(), Input::Numbers(vec![0.4, 0.25, 0.1])),
+            ("ks".into(), num(0.3)),
+            ("alpha_x".into(), num(0.12)),
+            ("alpha_y".into(), num(0.35)),
+        ],
+    )
+    .unwrap();
+    let table = AnisotropicTabulated::from_model(&truth, [24, 24, 96, 96], false).unwrap();
+    let how = TableSampling { count: 6000, strategy: Strategy::HalfDiff, ..TableSampling::default() };
+    let s = aniso_table_samples(&table, &how).unwrap();
+    let o = FitOptions { tangents: Some(vec![Vec3::X; s.len()]), ..FitOptions::default() };
+    let res = fit_model("ward", &s, &o).unwrap();
+    let get = |k: &str| res.values.iter().find(|(n, _)| n == k).unwrap().1.clone();
+    eprintln!("ward from a 24x24x96x96 table: {:?}, rms log error {:.2e}", res.values, res.rms_log_error);
+    let (ax, ay) = (get("alpha_x")[0], get("alpha_y")[0]);
+    assert!((ax - 0.12).abs() < 0.01 && (ay - 0.35).abs() < 0.02, "{ax} {ay}");
+    for (c, want) in [0.4, 0.25, 0.1].into_iter().enumerate() {
+        assert!((get("kd")[c] - want).abs() < 0.02, "{:?}", get("kd"));
+    }
+    // Without the tangents the frame of +z is the same (+x), and turned tangents swap the two slopes.
+    let turned = FitOptions { tangents: Some(vec![Vec3::Y; s.len()]), ..FitOptions::default() };
+    let r2 = fit_model("ward", &s, &turned).unwrap();
+    let ax2 = r2.values.iter().find(|(n, _)| n == "alpha_x").unwrap().1[0];
+    assert!((ax2 - 0.35).abs() < 0.03, "{:?}", r2.values);
+    let bad = FitOptions { tangents: Some(vec![Vec3::X; 3]), ..FitOptions::default() };
+    assert!(fit_model("ward", &s, &bad).unwrap_err().to_string().starts_with("tangent"));
 }

@@ -1,5 +1,7 @@
 //! Measured (tabulated) isotropic BRDFs: a regular grid over Rusinkiewicz's half/difference angles,
 //! looked up by trilinear interpolation, with the MERL `.binary` layout as the file format.
+//! Anisotropic 4-D tables and the MIT CSAIL `.dat` format are in [`anisotropic`] and [`mit_dat`], the
+//! RGL `.bsdf` materials in [`rgl_bsdf`].
 //!
 //! There are three ways to render from measured data: look the sampled values up with interpolation,
 //! fit an analytic model to them ([`crate::fit`]), or project them onto spherical harmonics
@@ -40,13 +42,16 @@ pub use crate::rusinkiewicz::{directions_from_half_diff, half_diff_angles, half_
 use crate::simd::{Lane, LaneGeometry, V3};
 use crate::{BrdfError, Geometry, Model};
 
+pub mod anisotropic;
 mod merl;
+pub mod mit_dat;
 pub mod rgl_bsdf;
 pub mod samples;
 pub mod tensor;
 
+pub use anisotropic::{AnisotropicTabulated, MeasuredAnisotropic, aniso_angles_lanes};
 pub use merl::MERL_SCALE;
-pub use rgl_bsdf::RglBsdf;
+pub use rgl_bsdf::{MeasuredRgl, RglBsdf};
 pub use samples::{AngleUnit, Coverage, SampleOptions};
 pub use tensor::{DType, TensorField, TensorFile};
 

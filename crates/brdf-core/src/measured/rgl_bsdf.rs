@@ -613,6 +613,57 @@ impl RglBsdf {
     }
 }
 
+/// An [`RglBsdf`] as a [`Model`] (`Model::MeasuredRgl`): it renders and evaluates in batches like any
+/// model (an anisotropic file in the frame of the tangent it is given). Shared between clones.
+///
+/// Its formula runs [`RglBsdf::eval`] once per lane: the warp inversion searches CDFs and has no
+/// lane form, so a batch costs what a loop of single evaluations costs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredRgl(pub std::sync::Arc<RglBsdf>);
+
+impl crate::models::Bxdf for MeasuredRgl {
+    const SPEC: crate::params::ModelSpec = crate::params::ModelSpec {
+        name: "rgl_bsdf",
+        summary: "an RGL .bsdf material (adaptive parameterisation), evaluated as Mitsuba 3's measured plugin",
+        source: "J. Dupuy, W. Jakob, An Adaptive Parameterization for Efficient Material Acquisition and Rendering, ACM TOG 37(6), SIGGRAPH Asia (2018)",
+        physical: true,
+        // An anisotropic file reads the tangent (an isotropic one ignores it).
+        anisotropic: true,
+        params: &[],
+    };
+    const KIND: crate::models::ModelKind = crate::models::ModelKind::Physical;
+
+    /// Cosine-weighted directions (Mitsuba's VNDF sampling of the file is not ported).
+    fn sampler(&self) -> Result<crate::sampling::Sampler, BrdfError> {
+        use crate::sampling::{Sampler, Technique};
+        Ok(Sampler::new().with(Technique::Cosine, 1.0))
+    }
+
+    /// Not buildable from parameters: built from its file.
+    fn from_params(_: &crate::params::Params) -> Result<Self, BrdfError> {
+        Err(BrdfError::InvalidInput {
+            name: "name",
+            problem: "\"rgl_bsdf\" is built from a file (brdfpy.measured.RglBsdf.as_model()), not by name"
+                .to_string(),
+        })
+    }
+
+    #[inline]
+    fn formula<F: crate::simd::Lane>(
+        &self,
+        g: &crate::simd::LaneGeometry<F>,
+        _active: F::Mask,
+    ) -> crate::simd::V3<F> {
+        crate::simd::V3::from_fn(|i| self.0.eval(&g.lane(i)))
+    }
+}
+
+impl From<RglBsdf> for Model {
+    fn from(r: RglBsdf) -> Self {
+        Model::MeasuredRgl(MeasuredRgl(std::sync::Arc::new(r)))
+    }
+}
+
 /// Mitsuba's numerically stable polar angle of a unit vector: `2 asin(|d − z| / 2)`.
 fn elevation(d: Vec3A) -> f32 {
     let dist = (d.x * d.x + d.y * d.y + (d.z - 1.0) * (d.z - 1.0)).sqrt();
@@ -714,6 +765,30 @@ mod tests {
             assert!((x - y).abs().max_element() < 0.1 * y.max_element(), "{x} {y}");
         }
         assert!(back.to_tabulated((8, 8, 8)).unwrap_err().to_string().contains("anisotropic"));
+    }
+
+    #[test]
+    fn the_material_as_a_model_evaluates_as_the_material_in_batches() {
+        use crate::batch::{Directions, Quantity, evaluate};
+        let ward = Model::build(
+            "ward",
+            &[("alpha_x".into(), Input::Number(0.2)), ("alpha_y".into(), Input::Number(0.4))],
+        )
+        .unwrap();
+        let rgl = RglBsdf::from_model(&ward, 6, 7, (12, 12)).unwrap();
+        let model = Model::from(rgl.clone());
+        assert_eq!(model.spec().name, "rgl_bsdf");
+        let ls: Vec<Vec3> =
+            (0..37).map(|i| Vec3::new((i as f32 * 0.7).sin(), (i as f32).cos(), 1.2)).collect();
+        let vs: Vec<Vec3> = (0..37).map(|i| Vec3::new((i as f32 * 1.3).cos(), -0.3, 0.9)).collect();
+        let (n, t) = ([Vec3::Z], [Vec3::new(1.0, 0.2, 0.0)]);
+        let (dirs, len) = Directions::new(&ls, &vs, &n, Some(&t)).unwrap();
+        let mut out = vec![Vec3::ZERO; len];
+        evaluate(&model, &dirs, Quantity::Brdf, &mut out);
+        for ((&l, &v), &o) in ls.iter().zip(&vs).zip(&out) {
+            let g = Geometry::new(l, v, Vec3::Z, Some(t[0])).unwrap();
+            assert_eq!(o.to_array().map(f32::to_bits), rgl.eval(&g).to_array().map(f32::to_bits));
+        }
     }
 
     #[test]

@@ -325,6 +325,8 @@ define_models! {
     Lafortune(Lafortune);
     // Data-driven models: built from data, not by name (`Model::build` does not know them).
     data: Measured(crate::measured::Measured),
+    MeasuredAnisotropic(crate::measured::MeasuredAnisotropic),
+    MeasuredRgl(crate::measured::MeasuredRgl),
 }
 
 /// A parameter name this library does not use, and the name it uses for the same concept.
