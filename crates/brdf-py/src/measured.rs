@@ -664,6 +664,30 @@ pub fn fit_model<'py>(
 /// The `(l, v, values)` columns of drawn samples, each `(count, 3)`.
 type SampleColumns<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
 
+/// How to draw samples from a table, from Python's arguments (checked, naming them).
+fn sampling(
+    count: &Bound<'_, PyAny>,
+    seed: &Bound<'_, PyAny>,
+    max_theta: f64,
+    strategy: &str,
+) -> PyResult<TableSampling> {
+    Ok(TableSampling {
+        count: crate::errors::integer("samples", count, 16, 10_000_000)? as usize,
+        seed: crate::errors::integer("seed", seed, 0, i64::MAX)? as u64,
+        max_theta_deg: max_theta as f32,
+        strategy: Strategy::from_name(strategy).map_err(to_py)?,
+    })
+}
+
+/// The `(l, v, values)` columns of drawn samples.
+fn sample_columns<'py>(py: Python<'py>, s: &[Sample]) -> PyResult<SampleColumns<'py>> {
+    let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let flat: Vec<f32> = s.iter().flat_map(|x| f(x).to_array()).collect();
+        PyArray1::from_vec(py, flat).reshape([s.len(), 3])
+    };
+    Ok((col(|x| x.l)?, col(|x| x.v)?, col(|x| x.f)?))
+}
+
 /// Samples of a table for a fit (`brdf_core::fit::table_samples`): `(l, v, values)`, float32 `(count, 3)`
 /// each, normal +z.
 #[pyfunction]
@@ -676,19 +700,10 @@ pub fn table_samples<'py>(
     max_theta: f64,
     strategy: &str,
 ) -> PyResult<SampleColumns<'py>> {
-    let how = TableSampling {
-        count: crate::errors::integer("samples", count, 16, 10_000_000)? as usize,
-        seed: crate::errors::integer("seed", seed, 0, i64::MAX)? as u64,
-        max_theta_deg: max_theta as f32,
-        strategy: Strategy::from_name(strategy).map_err(to_py)?,
-    };
+    let how = sampling(count, seed, max_theta, strategy)?;
     let t = table.inner.0.clone();
     let s = run(py, how.count, || fit::table_samples(&t, &how))?.map_err(to_py)?;
-    let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let flat: Vec<f32> = s.iter().flat_map(|x| f(x).to_array()).collect();
-        PyArray1::from_vec(py, flat).reshape([s.len(), 3])
-    };
-    Ok((col(|x| x.l)?, col(|x| x.v)?, col(|x| x.f)?))
+    sample_columns(py, &s)
 }
 
 /// Samples of an anisotropic table for a fit (`brdf_core::fit::aniso_table_samples`): `(l, v, values)`,
@@ -703,19 +718,10 @@ pub fn aniso_table_samples<'py>(
     max_theta: f64,
     strategy: &str,
 ) -> PyResult<SampleColumns<'py>> {
-    let how = TableSampling {
-        count: crate::errors::integer("samples", count, 16, 10_000_000)? as usize,
-        seed: crate::errors::integer("seed", seed, 0, i64::MAX)? as u64,
-        max_theta_deg: max_theta as f32,
-        strategy: Strategy::from_name(strategy).map_err(to_py)?,
-    };
+    let how = sampling(count, seed, max_theta, strategy)?;
     let t = table.inner.0.clone();
     let s = run(py, how.count, || fit::aniso_table_samples(&t, &how))?.map_err(to_py)?;
-    let col = |f: fn(&Sample) -> Vec3| -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let flat: Vec<f32> = s.iter().flat_map(|x| f(x).to_array()).collect();
-        PyArray1::from_vec(py, flat).reshape([s.len(), 3])
-    };
-    Ok((col(|x| x.l)?, col(|x| x.v)?, col(|x| x.f)?))
+    sample_columns(py, &s)
 }
 
 /// A float64 C-contiguous `(N, 3)` array viewed as `&[DVec3]` (N may be 0).
