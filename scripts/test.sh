@@ -36,10 +36,11 @@ step() {
     fi
 }
 
-# The cargo profile of the extension the tests import and of the wheel checked: dev-py (the release code
-# generation without link-time optimisation) builds in about half the time of release on two cores and
-# runs the same code; BRDFPY_PROFILE=release tests the exact build a release ships.
-PROFILE="${BRDFPY_PROFILE:-dev-py}"
+# The cargo profile of the extension the tests import, of `cargo test` and of the wheel checked: ci (the
+# release code generation without link-time optimisation, with debug assertions and overflow checks in
+# brdfpy's own crates, Cargo.toml) builds in about half the time of release on two cores, and `cargo test`
+# reuses its compiled dependencies; BRDFPY_PROFILE=release tests the exact build a release ships.
+PROFILE="${BRDFPY_PROFILE:-ci}"
 
 install() {
     "$PY" -m pip install -q 'maturin>=1.9,<2' &&
@@ -98,7 +99,7 @@ step "headless browser for the explorer tests (Debian chromium, chromium-driver)
 step "cargo fmt --check" cargo fmt --all --check
 step "cargo clippy -D warnings" cargo clippy --workspace --all-targets -- -D warnings
 step "cargo doc -D warnings" env RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace
-step "cargo test" cargo test
+step "cargo test" cargo test --workspace --profile "$PROFILE" --locked
 step "ruff check" "$PY" -m ruff check .
 step "ruff format --check" "$PY" -m ruff format --check .
 step "mypy --strict" "$PY" -m mypy

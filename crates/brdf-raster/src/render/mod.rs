@@ -93,7 +93,9 @@ pub struct ShadePoint {
 pub trait Occlusion: Sync {
     /// `true` promises `obscurance = 1`, `visibility = 1` and `indirect = 0` everywhere, so that the
     /// renderer may shade eight samples at a time without calling the hooks (same bits).
-    const TRIVIAL: bool = false;
+    fn is_trivial(&self) -> bool {
+        false
+    }
 
     /// Obscurance `w(p) ∈ [0, 1]` multiplying the ambient term (1 = fully open).
     fn obscurance(&self, _at: &ShadePoint) -> f32 {
@@ -126,7 +128,9 @@ pub trait Occlusion: Sync {
 pub struct NoOcclusion;
 
 impl Occlusion for NoOcclusion {
-    const TRIVIAL: bool = true;
+    fn is_trivial(&self) -> bool {
+        true
+    }
 }
 
 /// Render `scene` through `camera`, with the obscurance and shadows that `options.ao` and
@@ -210,6 +214,10 @@ pub fn render_with_into<O: Occlusion>(
     progress: Option<&(dyn Fn(f32) + Sync)>,
     frame: &mut Frame,
 ) -> Result<(), RasterError> {
+    // The renderer's internals take the providers as a trait object: they are asked once per light per
+    // 64 samples (or per textured sample), not per lane, so the indirect call costs nothing measurable,
+    // while a generic `O` would compile the whole shading stage once per provider type for every model.
+    let occlusion: &dyn Occlusion = occlusion;
     let prep = Prepared::new(scene, camera, options, occlusion)?;
     let n = options.width as usize * options.height as usize;
     frame.width = options.width;

@@ -26,10 +26,10 @@ fn bands_of<T>(buf: &mut [T], per: usize, n: usize) -> Vec<Option<&mut [T]>> {
 
 impl Prepared<'_> {
     /// Draw every band of the frame in parallel (each band owns its rows of every output buffer).
-    pub(super) fn draw<O: Occlusion>(
+    pub(super) fn draw(
         &self,
         frame: &mut Frame,
-        occlusion: &O,
+        occlusion: &dyn Occlusion,
         progress: Option<&(dyn Fn(f32) + Sync)>,
     ) {
         let (w, h) = (frame.width as usize, frame.height as usize);
@@ -96,13 +96,13 @@ impl Prepared<'_> {
     ///
     /// Background outside the covered span of each row ([`covered_spans`]) is neither tone mapped nor
     /// encoded (its bytes are copied), nor, when the colour is scratch, written.
-    fn band<O: Occlusion>(
+    fn band(
         &self,
         band: usize,
         pixels: usize,
         scratch: &mut BandScratch,
         out: BandOut<'_>,
-        occlusion: &O,
+        occlusion: &dyn Occlusion,
         encode: (f32, tonemap::Operator, [u8; 3]),
     ) {
         let (scale, op, background) = encode;

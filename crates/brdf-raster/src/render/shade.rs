@@ -260,7 +260,7 @@ impl Prepared<'_> {
     /// quadratic coefficients) are computed once, and a chunk (one instance) dispatches its material's
     /// model once.
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn shade<O: Occlusion>(
+    pub(super) fn shade(
         &self,
         band: usize,
         row0: i32,
@@ -269,7 +269,7 @@ impl Prepared<'_> {
         hdr: &mut [Vec3],
         mut normal: Option<&mut [Vec3]>,
         mut face: Option<&mut [u32]>,
-        occlusion: &O,
+        occlusion: &dyn Occlusion,
         within: Option<&[Span]>,
     ) {
         let bg = |i: usize| self.background_at(i % ws, row0 + (i / ws) as i32);
@@ -354,7 +354,7 @@ fn lanes_below<F: Lane>(count: usize) -> F::Mask {
 }
 
 /// Shade the samples of one chunk's triangles in a band, with the model known at compile time.
-struct ShadeChunk<'b, O> {
+struct ShadeChunk<'b> {
     prep: &'b Prepared<'b>,
     k: usize,
     base: u32,
@@ -368,18 +368,18 @@ struct ShadeChunk<'b, O> {
     row0: i32,
     rows: i32,
     ws: usize,
-    occlusion: &'b O,
+    occlusion: &'b dyn Occlusion,
 }
 
-impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
+impl ModelVisitor for ShadeChunk<'_> {
     type Output = ();
 
     fn visit<M: Bxdf>(self, m: &M) {
-        struct Kernel<'c, 'b, M, O> {
-            job: ShadeChunk<'b, O>,
+        struct Kernel<'c, 'b, M> {
+            job: ShadeChunk<'b>,
             m: &'c M,
         }
-        impl<M: Bxdf, O: Occlusion> LaneKernel for Kernel<'_, '_, M, O> {
+        impl<M: Bxdf> LaneKernel for Kernel<'_, '_, M> {
             #[inline(always)]
             fn run<F: Lane>(self) {
                 self.job.run::<M, F>(self.m);
@@ -389,7 +389,7 @@ impl<O: Occlusion> ModelVisitor for ShadeChunk<'_, O> {
     }
 }
 
-impl<O: Occlusion> ShadeChunk<'_, O> {
+impl ShadeChunk<'_> {
     /// Shade the chunk's visible samples: per-sample models without occlusion through a
     /// [`LaneQueue`], samples with occlusion through an [`OccQueue`], flat and Gouraud samples
     /// without occlusion straight from their stored colours.
@@ -699,12 +699,12 @@ impl OccQueue {
 
     /// Shade every queued sample into `hdr` (and its normal into `normal`) and empty the queue.
     #[inline(never)]
-    fn flush<M: Bxdf, O: Occlusion>(
+    fn flush<M: Bxdf>(
         &mut self,
         m: &M,
         prep: &Prepared<'_>,
         data: &InstanceData,
-        occlusion: &O,
+        occlusion: &dyn Occlusion,
         hdr: &mut [Vec3],
         mut normal: Option<&mut [Vec3]>,
     ) {

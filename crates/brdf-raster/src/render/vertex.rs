@@ -80,13 +80,13 @@ pub(super) struct Prepared<'a> {
 }
 
 impl<'a> Prepared<'a> {
-    /// Transform, clip, set up and bin the scene; `O` (the occlusion providers' type) says whether
-    /// every sample asks for obscurance and shadows ([`Occlusion::TRIVIAL`]).
-    pub(super) fn new<O: Occlusion>(
+    /// Transform, clip, set up and bin the scene; `occlusion` says whether every sample asks for
+    /// obscurance and shadows ([`Occlusion::is_trivial`]).
+    pub(super) fn new(
         scene: &'a Scene,
         camera: &'a Camera,
         options: &RenderOptions,
-        _occlusion: &O,
+        occlusion: &dyn Occlusion,
     ) -> Result<Self, RasterError> {
         options.validate()?;
         camera.validate()?;
@@ -152,7 +152,7 @@ impl<'a> Prepared<'a> {
             clip,
             world,
             instances,
-            occluded: !O::TRIVIAL,
+            occluded: !occlusion.is_trivial(),
             point_terms: Vec::new(),
             rays: Rays::new(&view_proj, viewport, (!camera.is_orthographic()).then_some(camera.eye)),
             eye: camera.eye.into(),

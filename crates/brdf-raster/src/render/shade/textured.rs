@@ -37,7 +37,7 @@ pub(crate) fn perturb(n: Vec3, t: Vec4, local: Vec3) -> Vec3 {
     if p == Vec3::ZERO { n } else { p }
 }
 
-impl<O: Occlusion> ShadeChunk<'_, O> {
+impl ShadeChunk<'_> {
     /// Shade the chunk's visible samples through the material's textures (module docs).
     pub(super) fn run_textured<M: Bxdf>(mut self, m: &M) {
         let prep = self.prep;
