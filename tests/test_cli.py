@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
 import shutil
 import subprocess
 import sys
+import sysconfig
 from pathlib import Path
 
 import brdfpy
@@ -151,9 +153,12 @@ def test_help_explains_the_options():
 
 
 def test_console_script_is_installed():
-    exe = shutil.which("brdfpy")
+    # The script of *this* interpreter's install (its scripts folder, or beside the executable in a venv),
+    # not whichever `brdfpy` comes first on PATH, which may belong to another interpreter.
+    folders = [sysconfig.get_path("scripts"), str(Path(sys.executable).parent)]
+    exe = shutil.which("brdfpy", path=os.pathsep.join(folders))
     if exe is None:
-        pytest.skip("the brdfpy console script is not on PATH (package not installed with pip)")
+        pytest.skip("no brdfpy console script beside this interpreter (package not installed with pip)")
     done = subprocess.run([exe, "--version"], capture_output=True, text=True, check=True)
     assert brdfpy.__version__ in done.stdout
 
