@@ -18,7 +18,7 @@ use brdf_core::illumination::Terms;
 use brdf_core::models::Bxdf;
 use glam::{Mat3, Vec2, Vec3, Vec4};
 
-use super::{Occlusion, ShadeChunk, ShadePoint, TriangleData, id_matches};
+use super::{ShadeChunk, ShadePoint, TriangleData, id_matches};
 use crate::shading::{ShadingMode, linear_normal, quadratic_normal};
 use crate::tiles::NO_TRI;
 
