@@ -105,10 +105,25 @@ impl<F: Lane> LaneGeometry<F> {
     /// `None` there); a zero-length tangent only clears `tangent_ok`.
     #[inline(always)]
     pub fn new(l: V3<F>, v: V3<F>, n: V3<F>, tangent: Option<V3<F>>) -> (Self, F::Mask) {
-        let (l, ok_l) = l.normalize_or_zero();
-        let (v, ok_v) = v.normalize_or_zero();
-        let (n, ok_n) = n.normalize_or_zero();
-        let (tangent, tangent_ok) = match tangent.map(V3::normalize_or_zero) {
+        Self::from_normalized(
+            l.normalize_or_zero(),
+            v.normalize_or_zero(),
+            n.normalize_or_zero(),
+            tangent.map(V3::normalize_or_zero),
+        )
+    }
+
+    /// [`LaneGeometry::new`] from inputs already normalised by [`V3::normalize_or_zero`] (each with
+    /// its mask), so that a caller may normalise an input shared by many batches once: the same
+    /// operations on the same values, the same bits.
+    #[inline(always)]
+    pub fn from_normalized(
+        (l, ok_l): (V3<F>, F::Mask),
+        (v, ok_v): (V3<F>, F::Mask),
+        (n, ok_n): (V3<F>, F::Mask),
+        tangent: Option<(V3<F>, F::Mask)>,
+    ) -> (Self, F::Mask) {
+        let (tangent, tangent_ok) = match tangent {
             Some((t, ok)) => (Some(t), ok),
             None => (None, F::mask_splat(false)),
         };
