@@ -22,6 +22,7 @@
 use glam::Vec3A;
 
 use crate::microfacet::{ALPHA_MIN, HalfVector};
+use crate::simd::math::EXP_NEG_CUT;
 use crate::simd::{Lane, V3};
 
 /// Isotropic Beckmann `D` [1/sr] at `cos_h` = n·h, roughness α = RMS slope (clamped to ≥
@@ -39,7 +40,8 @@ pub fn d_lanes<F: Lane>(cos_h: F, alpha: f32) -> F {
     let a2 = a * a;
     let c2 = (cos_h * cos_h).min(F::splat(1.0));
     let tan2 = (F::splat(1.0) - c2) / c2;
-    let d = (-tan2 / F::splat(a2)).exp() * F::splat(std::f32::consts::FRAC_1_PI) / (F::splat(a2) * c2 * c2);
+    let d = (tan2 / F::splat(a2)).exp_neg_normal() * F::splat(std::f32::consts::FRAC_1_PI)
+        / (F::splat(a2) * c2 * c2);
     F::select(cos_h.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 
@@ -61,9 +63,9 @@ pub fn d_half_lanes<F: Lane>(h: &HalfVector<F>, alpha: f32) -> F {
     let hn2 = h.n_dot * h.n_dot;
     let e = h.perp2 / (F::splat(a2) * hn2); // tan²θ/α²
     let sec2 = h.len2 / hn2; // 1/cos²θ
-    let d = (-e).exp() * F::splat(std::f32::consts::FRAC_1_PI / a2) * (sec2 * sec2);
-    // e^{−104} is below f32's smallest subnormal: D is 0 there, and 1/cos⁴θ may be huge (0 · ∞).
-    F::select(h.n_dot.gt(F::splat(0.0)) & e.lt(F::splat(104.0)), d, F::splat(0.0))
+    let d = e.exp_neg_normal() * F::splat(std::f32::consts::FRAC_1_PI / a2) * (sec2 * sec2);
+    // D is 0 where the exponential is ([`Lane::exp_neg_normal`]), and 1/cos⁴θ may be huge there (0 · ∞).
+    F::select(h.n_dot.gt(F::splat(0.0)) & e.lt(F::splat(EXP_NEG_CUT)), d, F::splat(0.0))
 }
 
 /// Anisotropic Beckmann `D` [1/sr] for a unit local half vector (z = normal, x = tangent):
@@ -82,7 +84,7 @@ pub fn d_aniso_lanes<F: Lane>(h: V3<F>, alpha_x: f32, alpha_y: f32) -> F {
     let z2 = h.z * h.z;
     let (x, y) = (h.x / F::splat(ax), h.y / F::splat(ay));
     let e = (x * x + y * y) / z2;
-    let d = (-e).exp() * F::splat(std::f32::consts::FRAC_1_PI) / (F::splat(ax * ay) * z2 * z2);
+    let d = e.exp_neg_normal() * F::splat(std::f32::consts::FRAC_1_PI) / (F::splat(ax * ay) * z2 * z2);
     F::select(h.z.gt(F::splat(0.0)), d, F::splat(0.0))
 }
 

@@ -52,7 +52,7 @@ pub fn d_with_normalization_lanes<F: Lane>(cos_h: F, m: f32, c: f32) -> F {
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn of_angle<F: Lane>(theta: F, m: f32, c: f32) -> F {
     let t = theta / F::splat(m.max(ALPHA_MIN));
-    F::splat(c) * (-t * t).exp()
+    F::splat(c) * (t * t).exp_neg_normal()
 }
 
 /// Gaussian `D` [1/sr] from the un-normalised half vector `h̃ = l + v` ([`HalfVector`]) given

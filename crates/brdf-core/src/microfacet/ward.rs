@@ -56,7 +56,7 @@ fn slopes2<F: Lane>(h: V3<F>, alpha_x: f32, alpha_y: f32) -> F {
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn gaussian_of<F: Lane>(h: V3<F>, e: F, alpha_x: f32, alpha_y: f32) -> F {
     let norm = std::f32::consts::FRAC_1_PI / (alpha_x.max(ALPHA_MIN) * alpha_y.max(ALPHA_MIN));
-    F::select(h.z.gt(F::splat(0.0)), (-e).exp() * F::splat(norm), F::splat(0.0))
+    F::select(h.z.gt(F::splat(0.0)), e.exp_neg_normal() * F::splat(norm), F::splat(0.0))
 }
 
 /// Ward 1992's "computationally convenient" form of the same Gaussian (his eq. 5b):

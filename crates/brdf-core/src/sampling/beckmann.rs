@@ -105,7 +105,7 @@ pub fn d<F: Lane>(alpha_x: f32, alpha_y: f32, h: V3<F>) -> F {
     let (ax, ay) = (alpha_x.max(ALPHA_MIN), alpha_y.max(ALPHA_MIN));
     let (x, y) = (h.x / F::splat(ax), h.y / F::splat(ay));
     let z2 = h.z * h.z;
-    neg((x * x + y * y) / z2).exp() * F::splat(FRAC_1_PI / (ax * ay)) / (z2 * z2)
+    ((x * x + y * y) / z2).exp_neg_normal() * F::splat(FRAC_1_PI / (ax * ay)) / (z2 * z2)
 }
 
 /// Exact Smith `G1(v) = 1/(1 + Λ(v))` of the Beckmann distribution ([`beckmann::lambda_aniso`], per

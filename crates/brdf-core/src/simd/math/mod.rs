@@ -44,7 +44,10 @@ mod inverse_trig;
 mod trig;
 
 pub(crate) use erf::{erf, erfc, erfinv};
-pub(crate) use exp_log::{exp, exp2, integer_exponent, ln, ln_1p, log2, one_minus_powi, powf, powf_uniform};
+pub use exp_log::EXP_NEG_CUT;
+pub(crate) use exp_log::{
+    exp, exp_neg_normal, exp2, integer_exponent, ln, ln_1p, log2, one_minus_powi, powf, powf_uniform,
+};
 pub(crate) use inverse_trig::{acos, asin, atan, atan2};
 pub(crate) use trig::{cos, sin, sin_cos, tan};
 

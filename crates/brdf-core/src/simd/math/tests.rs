@@ -43,6 +43,7 @@ type Binary<F> = (&'static str, fn(F, F) -> F);
 fn unary<F: Lane>() -> Vec<Unary<F>> {
     vec![
         ("exp", F::exp),
+        ("exp_neg_normal", F::exp_neg_normal),
         ("exp2", F::exp2),
         ("ln", F::ln),
         ("log2", F::log2),
@@ -249,6 +250,23 @@ fn exponentials_and_logarithms_are_within_their_ulp_bounds() {
     check_unary("log2", &pos, Lane::log2, f64::log2, 2.0);
     let p1 = samples(-1.0, f32::MAX, &[(-1e-3, 1e-3), (-0.9, 0.5), (0.01, 0.1)]);
     check_unary("ln_1p", &p1, Lane::ln_1p, f64::ln_1p, 2.5);
+}
+
+#[test]
+fn the_decaying_exponential_is_exp_of_minus_x_until_the_cut_then_zero_and_never_subnormal() {
+    use super::EXP_NEG_CUT;
+    for x in samples(-88.0, 200.0, &[(-1.0, 1.0), (EXP_NEG_CUT - 1.0, EXP_NEG_CUT + 1.0)]) {
+        let got = x.exp_neg_normal();
+        if x < EXP_NEG_CUT {
+            assert_eq!(got.to_bits(), Lane::exp(-x).to_bits(), "x = {x}");
+            assert!(got.is_normal(), "x = {x}: {got:e}");
+        } else {
+            assert_eq!(got.to_bits(), 0, "x = {x}");
+        }
+    }
+    assert_eq!(f32::INFINITY.exp_neg_normal(), 0.0);
+    assert_eq!(f32::NEG_INFINITY.exp_neg_normal(), f32::INFINITY);
+    assert!(f32::NAN.exp_neg_normal().is_nan());
 }
 
 #[test]
