@@ -72,6 +72,27 @@ impl BaryPlanes {
         Vec3::new((1.0 - u - v) as f32, u as f32, v as f32)
     }
 
+    /// [`BaryPlanes::at`] of the eight samples `(c0 + k, r)`, `k = 0..8`, as three rows of eight
+    /// (`b.x`, `b.y`, `b.z`): the same operations in the same order, so the same bits, but written
+    /// without a branch so that the compiler evaluates the eight samples in vector registers.
+    #[inline(always)]
+    pub(super) fn at_row_of_8(&self, c0: i32, r: i32) -> [[f32; 8]; 3] {
+        let dr = f64::from(r - self.r0);
+        let mut b = [[0.0f32; 8]; 3];
+        for k in 0..8 {
+            let dc = f64::from(c0 + k as i32 - self.c0);
+            let d = self.d[0] + dc * self.d[1] + dr * self.d[2];
+            let inv = 1.0 / d;
+            let u = (self.u[0] + dc * self.u[1] + dr * self.u[2]) * inv;
+            let v = (self.v[0] + dc * self.v[1] + dr * self.v[2]) * inv;
+            let ok = d != 0.0 && d.is_finite();
+            b[0][k] = if ok { (1.0 - u - v) as f32 } else { 1.0 / 3.0 };
+            b[1][k] = if ok { u as f32 } else { 1.0 / 3.0 };
+            b[2][k] = if ok { v as f32 } else { 1.0 / 3.0 };
+        }
+        b
+    }
+
     /// [`BaryPlanes::at`] and the barycentrics' change per sample column and per sample row, the exact
     /// derivatives of the perspective-correct `b = (1 − u − v, u, v)`: `∂(U/D)/∂c = (U_c − u·D_c)/D`
     /// (and `V`, rows alike). Any attribute `a = Σ b_i a_i` then changes by `Σ (∂b_i/∂c) a_i` per

@@ -413,6 +413,8 @@ impl ShadeChunk<'_> {
         // Flat shading without occlusion needs per-triangle data only for the normal output.
         let flat_plain = prep.shading == ShadingMode::Flat && !prep.occluded;
         let need_td = !flat_plain || self.normal.is_some();
+        // Phong without occlusion, the default: a block's positions and normals eight at a time.
+        let phong_plain = prep.shading == ShadingMode::Phong && !prep.occluded;
         let mut sample_terms = vec![Vec3::ZERO; t_len];
         for &local in self.list {
             let id = self.base | u32::from(local);
@@ -434,6 +436,36 @@ impl ShadeChunk<'_> {
                     let from = row + c as usize;
                     let mut hits = id_matches(&self.tri[from..from + block as usize], id);
                     c += block;
+                    if phong_plain {
+                        if hits == 0 {
+                            continue;
+                        }
+                        let td = tri_data.get_or_insert_with(|| {
+                            TriangleData::new(
+                                prep,
+                                data,
+                                f,
+                                (t.min_x, t.min_y),
+                                mesh.indices[f as usize],
+                                world,
+                            )
+                        });
+                        let attrs = td.phong_row_of_8(c_block, r);
+                        while hits != 0 {
+                            let k = hits.trailing_zeros() as usize;
+                            hits &= hits - 1;
+                            let i = row + c_block as usize + k;
+                            if let Some(fb) = self.face.as_deref_mut() {
+                                fb[i] = face_id;
+                            }
+                            let tint = colors.map(|col| td.interpolate(col, attrs.b(k)));
+                            if lane_queue.push(i as u32, attrs.p(k), attrs.n(k), tint) {
+                                let normal = self.normal.as_deref_mut();
+                                lane_queue.flush::<M, F>(m, prep, &data.terms, self.hdr, normal);
+                            }
+                        }
+                        continue;
+                    }
                     while hits != 0 {
                         let c = c_block + hits.trailing_zeros() as i32;
                         hits &= hits - 1;
@@ -782,6 +814,28 @@ fn unit_or_zero<F: Lane>(v: V3<F>) -> V3<F> {
 }
 
 /// What shading needs of one mesh face, gathered once per triangle.
+/// Barycentrics, positions and normals of eight neighbouring samples of a row, component by component.
+struct RowOf8 {
+    b: [[f32; 8]; 3],
+    p: [[f32; 8]; 3],
+    n: [[f32; 8]; 3],
+}
+
+impl RowOf8 {
+    #[inline(always)]
+    fn b(&self, k: usize) -> Vec3 {
+        Vec3::new(self.b[0][k], self.b[1][k], self.b[2][k])
+    }
+    #[inline(always)]
+    fn p(&self, k: usize) -> Vec3 {
+        Vec3::new(self.p[0][k], self.p[1][k], self.p[2][k])
+    }
+    #[inline(always)]
+    fn n(&self, k: usize) -> Vec3 {
+        Vec3::new(self.n[0][k], self.n[1][k], self.n[2][k])
+    }
+}
+
 struct TriangleData {
     idx: [u32; 3],
     p: [Vec3; 3],
@@ -806,6 +860,25 @@ impl TriangleData {
         let face_normal = if data.mirrored { -fnorm } else { fnorm };
         let bary = BaryPlanes::new(&prep.rays, p, anchor.0, anchor.1);
         Self { idx, p, n: [v[0].n, v[1].n, v[2].n], bary, face_normal }
+    }
+
+    /// The barycentrics, positions and (linear, not normalised) normals of the eight samples
+    /// `(c0 + k, r)`: [`BaryPlanes::at`], `Σ b_i p_i` and [`linear_normal`], operation for operation
+    /// (the same bits), in rows of eight that the compiler keeps in vector registers.
+    #[inline(always)]
+    fn phong_row_of_8(&self, c0: i32, r: i32) -> RowOf8 {
+        let b = self.bary.at_row_of_8(c0, r);
+        let mut p = [[0.0f32; 8]; 3];
+        let mut n = [[0.0f32; 8]; 3];
+        for j in 0..3 {
+            let (p0, p1, p2) = (self.p[0][j], self.p[1][j], self.p[2][j]);
+            let (n0, n1, n2) = (self.n[0][j], self.n[1][j], self.n[2][j]);
+            for k in 0..8 {
+                p[j][k] = p0 * b[0][k] + p1 * b[1][k] + p2 * b[2][k];
+                n[j][k] = n0 * b[0][k] + n1 * b[1][k] + n2 * b[2][k];
+            }
+        }
+        RowOf8 { b, p, n }
     }
 
     /// A per-vertex attribute at barycentrics `b`.
