@@ -84,7 +84,7 @@ pub const EXP_NEG_CUT: f32 = 80.0;
 pub(crate) fn exp_neg_normal<F: Lane>(x: F) -> F {
     let cut = F::splat(EXP_NEG_CUT);
     // Clamped first: the exponential of the dropped lanes must not make subnormals either.
-    let e = exp(-x.min(cut));
+    let e = exp(x.min(cut) * F::splat(-1.0));
     F::select(x.ge(cut), F::splat(0.0), F::select(x.eq(x), e, x))
 }
 
