@@ -79,16 +79,17 @@ impl BaryPlanes {
     pub(super) fn at_row_of_8(&self, c0: i32, r: i32) -> [[f32; 8]; 3] {
         let dr = f64::from(r - self.r0);
         let mut b = [[0.0f32; 8]; 3];
-        for k in 0..8 {
+        let [b0, b1, b2] = &mut b;
+        for (k, ((b0, b1), b2)) in b0.iter_mut().zip(b1.iter_mut()).zip(b2.iter_mut()).enumerate() {
             let dc = f64::from(c0 + k as i32 - self.c0);
             let d = self.d[0] + dc * self.d[1] + dr * self.d[2];
             let inv = 1.0 / d;
             let u = (self.u[0] + dc * self.u[1] + dr * self.u[2]) * inv;
             let v = (self.v[0] + dc * self.v[1] + dr * self.v[2]) * inv;
             let ok = d != 0.0 && d.is_finite();
-            b[0][k] = if ok { (1.0 - u - v) as f32 } else { 1.0 / 3.0 };
-            b[1][k] = if ok { u as f32 } else { 1.0 / 3.0 };
-            b[2][k] = if ok { v as f32 } else { 1.0 / 3.0 };
+            *b0 = if ok { (1.0 - u - v) as f32 } else { 1.0 / 3.0 };
+            *b1 = if ok { u as f32 } else { 1.0 / 3.0 };
+            *b2 = if ok { v as f32 } else { 1.0 / 3.0 };
         }
         b
     }

@@ -68,7 +68,7 @@ pub(crate) fn exp<F: Lane>(x: F) -> F {
     F::select(x.eq(x), scale(e, n), x)
 }
 
-/// Where [`exp_neg_normal`] stops: `e^{−80} ≈ 1.8 · 10⁻³⁵`, so that its result, and that result's
+/// Where [`Lane::exp_neg_normal`] stops: `e^{−80} ≈ 1.8 · 10⁻³⁵`, so that its result, and that result's
 /// products with a model's other factors (prefactors, G, F, cosines: rarely below 10⁻³ together), stay
 /// normal floats.
 pub const EXP_NEG_CUT: f32 = 80.0;
