@@ -197,8 +197,9 @@ pub fn conductor(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
 pub fn conductor_lanes<F: Lane>(cos_i: F, eta: Vec3, k: Vec3) -> V3<F> {
     // (R_s + R_p)/2 = R_s (1 + q)/2 with R_p = R_s q, q = (t3 − t4)/(t3 + t4), so that
     // (1 + q)/2 = t3/(t3 + t4) and the average is one quotient, (t1 − t2) t3/((t1 + t2)(t3 + t4)):
-    // one division per channel instead of two (a quarter of the exact-conductor Cook–Torrance's
-    // divisions and square roots).
+    // one division per channel instead of two, 9 divisions and square roots for the three channels
+    // instead of 12 (the divider is what bounds an exact-conductor Cook–Torrance: GGX-Au went from 113
+    // to 133 M evaluations/s on one thread, `examples/batch_throughput.rs`).
     let (c, c2, s2) = cosines(cos_i);
     V3 {
         x: conductor_average(c, c2, s2, eta.x, k.x),
