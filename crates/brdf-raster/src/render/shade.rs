@@ -425,6 +425,8 @@ impl ShadeChunk<'_> {
             // Per-triangle data, fetched when the first visible sample is found (many triangles lose
             // the depth test everywhere and need none of it).
             let mut tri_data: Option<TriangleData> = None;
+            let triangle_data =
+                || TriangleData::new(prep, data, f, (t.min_x, t.min_y), mesh.indices[f as usize], world);
             let flat = &self.chunk.flat[(local as usize * t_len).min(self.chunk.flat.len())..];
             for r in r_first..=r_last {
                 let row = (r - self.row0) as usize * self.ws;
@@ -440,16 +442,7 @@ impl ShadeChunk<'_> {
                         if hits == 0 {
                             continue;
                         }
-                        let td = tri_data.get_or_insert_with(|| {
-                            TriangleData::new(
-                                prep,
-                                data,
-                                f,
-                                (t.min_x, t.min_y),
-                                mesh.indices[f as usize],
-                                world,
-                            )
-                        });
+                        let td = tri_data.get_or_insert_with(triangle_data);
                         let attrs = td.phong_row_of_8(c_block, r);
                         while hits != 0 {
                             let k = hits.trailing_zeros() as usize;
@@ -477,16 +470,7 @@ impl ShadeChunk<'_> {
                             self.hdr[i] = flat[0];
                             continue;
                         }
-                        let td = tri_data.get_or_insert_with(|| {
-                            TriangleData::new(
-                                prep,
-                                data,
-                                f,
-                                (t.min_x, t.min_y),
-                                mesh.indices[f as usize],
-                                world,
-                            )
-                        });
+                        let td = tri_data.get_or_insert_with(triangle_data);
                         let at = |b: Vec3, p: Vec3, n: Vec3| ShadePoint {
                             p,
                             n,
